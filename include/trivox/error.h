@@ -1,0 +1,59 @@
+// Errors in layers (see docs/ARCHITECTURE.md):
+//  * bugs are caught by assertions;
+//  * bad input (a model file, a scene, a parameter) throws a typed exception derived from
+//    trivox::Error that names where the problem is and which rule it breaks;
+//  * expected numerical outcomes (a point outside a volume, a Newton iteration that does not
+//    converge) are status values, never exceptions.
+// The library never prints and never exits; only the command-line program turns errors into
+// messages and exit codes.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace trivox {
+
+// Base of every exception the library throws on purpose.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A spline or model that breaks a structural rule (knots decreasing, weight <= 0, NaN...).
+// Thrown by constructors that validate; readers catch it and add the file and line.
+class ModelError : public Error {
+ public:
+  using Error::Error;
+};
+
+// Bad input read from a file: names the file, the line (0 when unknown) or XML element,
+// and the rule broken. what() is "file:line: where: rule".
+class InputError : public Error {
+ public:
+  InputError(std::string file, int line, std::string where, std::string rule);
+
+  const std::string& file() const noexcept { return file_; }
+  int line() const noexcept { return line_; }
+  const std::string& where() const noexcept { return where_; }
+  const std::string& rule() const noexcept { return rule_; }
+
+ private:
+  std::string file_;
+  int line_;
+  std::string where_;
+  std::string rule_;
+};
+
+// A feature of a valid file that trivox does not handle (e.g. hierarchical splines).
+class UnsupportedError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+// A file or folder that cannot be read or written.
+class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+}  // namespace trivox

@@ -1,0 +1,96 @@
+// The inverse map x -> (u,v,w) of a trivariate (Equation 3 of the paper).
+//
+// Two solvers with explicit outcomes:
+//  * invert(): damped Newton from a hint (typically a neighbouring pixel's solution), kept
+//    inside the parameter box. Fast, local, allocation-free.
+//  * GlobalSolver::solve(): finds every preimage of x in the whole domain or proves there is
+//    none, by Bezier subdivision with bounding-box exclusion, an injectivity test that proves
+//    a box holds at most one preimage, and Newton in the surviving boxes.
+// Outside-the-volume is a result, not an error.
+#pragma once
+
+#include <string_view>
+#include <vector>
+
+#include "trivox/math.h"
+#include "trivox/spline/volume.h"
+
+namespace trivox {
+
+struct InverseParams {
+  // A parameter is a solution when |V(u,v,w) - x| (Euclidean) is at most this, in model units.
+  double residual_tolerance_model = 1e-8;
+  int max_iterations = 30;
+  // How far outside the parameter box (as a fraction of the box size per direction) Newton
+  // may want to step before the point is judged outside the domain.
+  double outside_slack_relative = 1e-9;
+};
+
+enum class InverseStatus {
+  kConverged,      // uvw is a solution inside the domain
+  kOutside,        // the iteration is held at the domain boundary: x is (locally) outside
+  kNoConvergence,  // iteration budget exhausted
+  kSingular,       // the Jacobian vanished along the way
+};
+std::string_view to_string(InverseStatus s) noexcept;
+
+struct InverseResult {
+  InverseStatus status = InverseStatus::kNoConvergence;
+  Vec3 uvw;               // last iterate (the solution when converged)
+  double residual = 0.0;  // |V(uvw) - x| in model units
+  int iterations = 0;     // evaluations of V and J
+};
+
+InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params = {});
+
+struct GlobalSolveParams {
+  InverseParams newton;
+  // Boxes examined before giving up with kIncomplete (guards against degenerate volumes
+  // where a whole face maps to one point).
+  int max_boxes = 20000;
+  // Preimages closer than this (fraction of the domain size, per direction) are one.
+  double same_root_relative = 1e-6;
+  // A preimage whose |det J| is below this fraction of the volume's typical |det J| is
+  // singular (on a collapsed face or edge).
+  double singular_relative = 1e-8;
+};
+
+enum class GlobalStatus {
+  kNone,        // x has no preimage in the domain (proved by exclusion)
+  kUnique,      // exactly one preimage
+  kMultiple,    // more than one regular preimage: the volume folds over x
+  kDegenerate,  // preimages only on a set where J is singular (e.g. a collapsed axis)
+  kIncomplete,  // the box budget ran out; `preimages` holds what was found
+};
+std::string_view to_string(GlobalStatus s) noexcept;
+
+struct Preimage {
+  Vec3 uvw;
+  double residual = 0.0;  // |V(uvw) - x|, model units
+  double det = 0.0;       // det J at uvw
+};
+
+struct GlobalResult {
+  GlobalStatus status = GlobalStatus::kNone;
+  std::vector<Preimage> preimages;  // sorted by (u, v, w)
+  int boxes_visited = 0;
+};
+
+class GlobalSolver {
+ public:
+  // Precomputes the Bezier pieces of `volume` (which must outlive the solver).
+  explicit GlobalSolver(const Volume& volume);
+  ~GlobalSolver();
+  GlobalSolver(GlobalSolver&&) noexcept;
+  GlobalSolver& operator=(GlobalSolver&&) noexcept;
+
+  GlobalResult solve(Vec3 x, const GlobalSolveParams& params = {}) const;
+
+ private:
+  struct Impl;
+  const Volume* volume_;
+  std::vector<Impl> pieces_;  // one per Bezier piece (defined in src/inverse)
+  double typical_abs_det_ = 1.0;
+};
+
+}  // namespace trivox

@@ -1,0 +1,27 @@
+// Helpers shared by the tests: where the real data lives, analytic fixture volumes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "trivox/spline/volume.h"
+
+namespace trivox::test {
+
+// ../shared/data beside the repository, or an empty path when it is absent. Tests that
+// need it call GTEST_SKIP() with shared_data_missing_message() in that case.
+std::filesystem::path shared_data_dir();
+std::string shared_data_missing_message();
+
+// Analytic fixtures (exact where stated):
+// a quarter of an annulus (inner radius r0, outer r1) extruded by height h along z, exact
+// rational quadratic in v (the angle direction), linear in u (radius) and w (height).
+Volume annulus_sector(double r0, double r1, double h);
+// A 90-degree sector of a solid cylinder of radius r and height h (u = radius from 0:
+// the face u = 0 collapses onto the axis).
+Volume cylinder_sector(double r, double h);
+// A cubic 8x8x8 B-spline volume on [0,1]^3 mapping a box of size (sx, sy, sz) with a twist
+// about z and a bend; regular (det J > 0) everywhere.
+Volume twisted_bent_box(double sx, double sy, double sz, int ctrl = 8, int order = 4);
+
+}  // namespace trivox::test
