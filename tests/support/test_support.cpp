@@ -1,0 +1,76 @@
+#include "support/test_support.h"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace trivox::test {
+
+std::filesystem::path shared_data_dir() {
+  const std::filesystem::path p = TRIVOX_SHARED_DATA_DIR;
+  std::error_code ec;
+  return std::filesystem::is_directory(p, ec) ? p : std::filesystem::path{};
+}
+
+std::string shared_data_missing_message() {
+  return std::string("skipped: ../shared/data (the real models beside the repository) is absent at ") +
+         TRIVOX_SHARED_DATA_DIR;
+}
+
+namespace {
+// Exact rational quadratic quarter circle of radius r in the xy-plane: 3 points, weights
+// 1, sqrt(2)/2, 1 (The NURBS Book, Section 7.5).
+void quarter_circle(double r, double z, std::vector<double>& pts, std::vector<double>& w) {
+  const double h = std::numbers::sqrt2 / 2;
+  const double xy[3][2] = {{r, 0}, {r, r}, {0, r}};
+  const double ws[3] = {1, h, 1};
+  for (int i = 0; i < 3; ++i) {
+    pts.insert(pts.end(), {xy[i][0], xy[i][1], z});
+    w.push_back(ws[i]);
+  }
+}
+}  // namespace
+
+Volume annulus_sector(double r0, double r1, double h) {
+  // u: radius (2 points), v: angle (3 points, rational), w: height (2 points); u fastest.
+  std::vector<double> pts, w;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 2; ++i) {
+        std::vector<double> cp, cw;
+        quarter_circle(i == 0 ? r0 : r1, k * h, cp, cw);
+        pts.insert(pts.end(), {cp[static_cast<std::size_t>(3 * j)], cp[static_cast<std::size_t>(3 * j + 1)], cp[static_cast<std::size_t>(3 * j + 2)]});
+        w.push_back(cw[static_cast<std::size_t>(j)]);
+      }
+  return Volume(TensorSpline({KnotVector::bezier(2), KnotVector::bezier(3), KnotVector::bezier(2)}, 3,
+                             std::move(pts), std::move(w)));
+}
+
+Volume cylinder_sector(double r, double h) { return annulus_sector(0.0, r, h); }
+
+Volume twisted_bent_box(double sx, double sy, double sz, int ctrl, int order) {
+  // Greville abscissae of a clamped uniform basis place control points so that the identity
+  // map is reproduced; then a twist about the z axis and a bend along x deform it smoothly.
+  const KnotVector kv = KnotVector::clamped_uniform(order, ctrl);
+  std::vector<double> g(static_cast<std::size_t>(ctrl));
+  for (int i = 0; i < ctrl; ++i) {
+    double s = 0;
+    for (int j = 1; j < order; ++j) s += kv[i + j];
+    g[static_cast<std::size_t>(i)] = order > 1 ? s / (order - 1) : (i + 0.5) / ctrl;
+  }
+  std::vector<double> pts;
+  for (int k = 0; k < ctrl; ++k)
+    for (int j = 0; j < ctrl; ++j)
+      for (int i = 0; i < ctrl; ++i) {
+        const double u = g[static_cast<std::size_t>(i)], v = g[static_cast<std::size_t>(j)], t = g[static_cast<std::size_t>(k)];
+        const double angle = 0.35 * t;  // twist: radians over the height
+        const double x0 = (u - 0.5) * sx, y0 = (v - 0.5) * sy;
+        const double x = std::cos(angle) * x0 - std::sin(angle) * y0;
+        const double y = std::sin(angle) * x0 + std::cos(angle) * y0;
+        const double bend = 0.15 * sx * (t - 0.5) * (t - 0.5);  // bend the column along x
+        pts.insert(pts.end(), {x + bend + 0.5 * sx, y + 0.5 * sy, t * sz});
+      }
+  return Volume(TensorSpline({kv, kv, kv}, 3, std::move(pts)));
+}
+
+}  // namespace trivox::test
