@@ -5,9 +5,12 @@
 namespace trivox {
 
 // The NURBS Book, Algorithm A2.2 (with degree p = k - 1).
-void basis_functions(const KnotVector& kv, int span, double t, double* out) noexcept {
-  const int p = kv.degree();
-  std::array<double, kMaxOrder> left{}, right{};
+namespace {
+// A2.2 up to degree `p` (which may be below the knot vector's degree).
+inline void basis_to_degree(const KnotVector& kv, int span, double t, int p, double* out) noexcept {
+  // Uninitialised on purpose: entries are written before they are read, and clearing
+  // 2 * kMaxOrder doubles per call would dominate evaluation time.
+  std::array<double, kMaxOrder + 1> left, right;
   out[0] = 1.0;
   for (int j = 1; j <= p; ++j) {
     left[static_cast<std::size_t>(j)] = t - kv[span + 1 - j];
@@ -20,6 +23,31 @@ void basis_functions(const KnotVector& kv, int span, double t, double* out) noex
       saved = left[static_cast<std::size_t>(j - r)] * temp;
     }
     out[j] = saved;
+  }
+}
+}  // namespace
+
+void basis_functions(const KnotVector& kv, int span, double t, double* out) noexcept {
+  basis_to_degree(kv, span, t, kv.degree(), out);
+}
+
+void basis_first_derivatives(const KnotVector& kv, int span, double t, double* values,
+                             double* derivs) noexcept {
+  const int p = kv.degree();
+  if (p == 0) {
+    values[0] = 1.0;
+    derivs[0] = 0.0;
+    return;
+  }
+  std::array<double, kMaxOrder> lower;  // N_{s-p+1+q, p-1}, q = 0..p-1
+  basis_to_degree(kv, span, t, p - 1, lower.data());
+  for (int r = 0; r <= p; ++r) {
+    const int i = span - p + r;
+    const double a = r > 0 ? lower[static_cast<std::size_t>(r - 1)] / (kv[i + p] - kv[i]) : 0.0;
+    const double b = r < p ? lower[static_cast<std::size_t>(r)] / (kv[i + p + 1] - kv[i + 1]) : 0.0;
+    // Degree p from degree p - 1 (Cox-de Boor) and its derivative from the same terms.
+    values[r] = (t - kv[i]) * a + (kv[i + p + 1] - t) * b;
+    derivs[r] = p * (a - b);
   }
 }
 

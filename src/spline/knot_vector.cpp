@@ -11,6 +11,18 @@ namespace trivox {
 
 KnotVector::KnotVector(int order, std::vector<double> knots) : order_(order), knots_(std::move(knots)) {
   validate();
+  prepare_span_guess();
+}
+
+void KnotVector::prepare_span_guess() noexcept {
+  const double a = lo(), b = hi();
+  const int pieces = num_basis() - order_ + 1;  // spans between t_{k-1} and t_{nb}
+  const double width = (b - a) / pieces;
+  for (int s = order_ - 1; s < num_basis(); ++s) {
+    const double w = knots_[static_cast<std::size_t>(s + 1)] - knots_[static_cast<std::size_t>(s)];
+    if (std::abs(w - width) > 1e-12 * (b - a)) return;  // repeated or uneven knots
+  }
+  uniform_inverse_width_ = 1.0 / width;
 }
 
 KnotVector KnotVector::periodic(int order, int num_ctrl, std::vector<double> knots) {
@@ -25,6 +37,7 @@ KnotVector KnotVector::periodic(int order, int num_ctrl, std::vector<double> kno
   kv.periodic_ = true;
   kv.knots_ = std::move(knots);
   kv.validate();
+  kv.prepare_span_guess();
   return kv;
 }
 
@@ -87,6 +100,15 @@ int KnotVector::find_span(double t) const noexcept {
     // the left (exact at the domain end, also with repeated interior knots before it).
     int s = nb - 1;
     while (s > order_ - 1 && knots_[static_cast<std::size_t>(s)] >= b) --s;
+    return s;
+  }
+  if (uniform_inverse_width_ > 0.0) {
+    // Guess from the uniform width, then step to the exact span (rounding can put the guess
+    // one off at a knot).
+    int s = order_ - 1 + static_cast<int>((t - a) * uniform_inverse_width_);
+    s = std::clamp(s, order_ - 1, nb - 1);
+    while (s > order_ - 1 && t < knots_[static_cast<std::size_t>(s)]) --s;
+    while (s < nb - 1 && t >= knots_[static_cast<std::size_t>(s + 1)]) ++s;
     return s;
   }
   // upper_bound gives the first knot > t; the span starts one before it.

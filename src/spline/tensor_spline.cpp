@@ -51,7 +51,7 @@ struct DirectionBasis {
     count = kv.order();
     first = span - kv.degree();
     if (with_derivative)
-      basis_derivatives(kv, span, tc, 1, ders.data());
+      basis_first_derivatives(kv, span, tc, ders.data(), ders.data() + count);
     else
       basis_functions(kv, span, tc, ders.data());
   }

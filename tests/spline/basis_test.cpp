@@ -89,5 +89,27 @@ TEST(Basis, CubicBezierIsBernstein) {
   EXPECT_NEAR(D[7], 3 * t * t, 1e-14);
 }
 
+TEST(Basis, FirstDerivativeFastPathMatchesA23) {
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (int order : {1, 2, 3, 4, 6, 9, 16, 20}) {
+    const KnotVector kv = random_knots(rng, order, 6);
+    std::vector<double> v(static_cast<std::size_t>(order)), d(static_cast<std::size_t>(order)),
+        ref(static_cast<std::size_t>(2 * order));
+    for (int s = 0; s < 200; ++s) {
+      const double t = s == 0 ? 0.0 : (s == 1 ? 1.0 : U(rng));
+      const int span = kv.find_span(t);
+      basis_first_derivatives(kv, span, t, v.data(), d.data());
+      basis_derivatives(kv, span, t, 1, ref.data());
+      for (int j = 0; j < order; ++j) {
+        EXPECT_NEAR(v[static_cast<std::size_t>(j)], ref[static_cast<std::size_t>(j)], 1e-13);
+        EXPECT_NEAR(d[static_cast<std::size_t>(j)], ref[static_cast<std::size_t>(order + j)],
+                    1e-9 * (1 + std::abs(ref[static_cast<std::size_t>(order + j)])));
+      }
+    }
+  }
+}
+
+
 }  // namespace
 }  // namespace trivox

@@ -1,5 +1,6 @@
 #include "trivox/spline/knot_vector.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -75,6 +76,35 @@ TEST(KnotVector, UniformAndBezier) {
   const KnotVector b = KnotVector::bezier(4);
   EXPECT_EQ(b.num_basis(), 4);
   EXPECT_TRUE(b.interior_breaks().empty());
+}
+
+}  // namespace
+}  // namespace trivox
+
+namespace trivox {
+namespace {
+
+// The O(1) guess for uniform knots must agree with a plain linear scan everywhere,
+// including exactly at knots and at values that round across them.
+TEST(KnotVector, UniformSpanGuessAgreesWithLinearScan) {
+  auto scan = [](const KnotVector& kv, double t) {
+    t = std::clamp(t, kv.lo(), kv.hi());
+    int s = kv.order() - 1;
+    while (s < kv.num_basis() - 1 && kv[s + 1] <= t) ++s;
+    return s;
+  };
+  for (int order : {1, 2, 3, 4, 7}) {
+    for (int n : {order, order + 1, order + 9, order + 36}) {
+      const KnotVector kv = KnotVector::clamped_uniform(order, n, -0.3, 1.7);
+      for (int i = -5; i <= 1005; ++i) {
+        const double t = -0.3 + 2.0 * i / 1000.0;
+        EXPECT_EQ(kv.find_span(t), scan(kv, t)) << "order " << order << " n " << n << " t " << t;
+        EXPECT_EQ(kv.find_span(std::nextafter(t, 10.0)), scan(kv, std::nextafter(t, 10.0)));
+        EXPECT_EQ(kv.find_span(std::nextafter(t, -10.0)), scan(kv, std::nextafter(t, -10.0)));
+      }
+      for (double knot : kv.knots()) EXPECT_EQ(kv.find_span(knot), scan(kv, knot));
+    }
+  }
 }
 
 }  // namespace

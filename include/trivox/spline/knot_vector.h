@@ -68,7 +68,12 @@ class KnotVector {
  private:
   KnotVector() = default;
   void validate() const;
+  void prepare_span_guess() noexcept;
 
+  // 1 / (span width) when the non-empty spans inside the domain are all equally wide (the
+  // common uniform case): find_span then guesses the span in O(1) and corrects it exactly.
+  // 0 otherwise (binary search).
+  double uniform_inverse_width_ = 0.0;
   int order_ = 1;
   bool periodic_ = false;
   std::vector<double> knots_;

@@ -11,6 +11,9 @@
 #include "trivox/spline/tensor_spline.h"
 
 namespace trivox {
+namespace detail {
+struct VolumeData;
+}
 
 class Volume {
  public:
@@ -43,6 +46,10 @@ class Volume {
   std::array<int, 3> num_basis_{};
   // Homogeneous control points, basis-index layout (periodic directions unwrapped), u fastest.
   std::vector<std::array<double, 4>> hpoints_;
+  // Kernels specialised for this volume's orders (chosen once, in the constructor).
+  Vec3 (*evaluate_fn_)(const detail::VolumeData&, Vec3) noexcept = nullptr;
+  void (*evaluate_jacobian_fn_)(const detail::VolumeData&, Vec3, Vec3&, Mat3&) noexcept = nullptr;
+  detail::VolumeData data() const noexcept;
 };
 
 }  // namespace trivox

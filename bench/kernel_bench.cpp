@@ -1,0 +1,98 @@
+// Kernel figures for docs/PERFORMANCE.md: evaluation, warm-started inversion and global
+// solves on a cubic 8x8x8 trivariate (the twisted, bent 40 x 30 x 60 mm test column).
+#include <random>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "support/test_support.h"
+#include "trivox/inverse/invert.h"
+
+namespace {
+
+using trivox::Vec3;
+
+const trivox::Volume& column() {
+  static const trivox::Volume v = trivox::test::twisted_bent_box(40, 30, 60, 8, 4);
+  return v;
+}
+
+std::vector<Vec3> random_params(int n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<Vec3> out(static_cast<std::size_t>(n));
+  for (Vec3& t : out) t = {U(rng), U(rng), U(rng)};
+  return out;
+}
+
+void BM_Evaluate(benchmark::State& state) {
+  const auto params = random_params(4096, 1);
+  std::size_t i = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(column().evaluate(params[i++ & 4095]));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_Evaluate);
+
+void BM_EvaluateJacobian(benchmark::State& state) {
+  const auto params = random_params(4096, 2);
+  std::size_t i = 0;
+  Vec3 p;
+  trivox::Mat3 J;
+  for (auto _ : state) {
+    column().evaluate_jacobian(params[i++ & 4095], p, J);
+    benchmark::DoNotOptimize(p);
+    benchmark::DoNotOptimize(J);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+BENCHMARK(BM_EvaluateJacobian);
+
+// A row of pixels 0.04 mm apart along x, each inverted with the previous pixel's solution
+// as the hint, as the slicer's tracing does.
+void BM_WarmInversion(benchmark::State& state) {
+  const trivox::Volume& v = column();
+  const trivox::GlobalSolver solver(v);
+  const Vec3 start = v.evaluate({0.2, 0.5, 0.5});
+  const int n = 500;  // 20 mm of row
+  std::vector<Vec3> row(n);
+  for (int i = 0; i < n; ++i) row[static_cast<std::size_t>(i)] = start + Vec3{0.04 * i, 0, 0};
+  const Vec3 first = solver.solve(row[0]).preimages.at(0).uvw;
+  std::int64_t points = 0, iterations = 0;
+  for (auto _ : state) {
+    Vec3 hint = first;
+    for (const Vec3& x : row) {
+      const trivox::InverseResult r = trivox::invert(v, x, hint);
+      hint = r.uvw;
+      iterations += r.iterations;
+      benchmark::DoNotOptimize(r);
+    }
+    points += n;
+  }
+  state.SetItemsProcessed(points);
+  state.counters["evals_per_point"] = static_cast<double>(iterations) / static_cast<double>(points);
+}
+BENCHMARK(BM_WarmInversion);
+
+void BM_GlobalSolve(benchmark::State& state) {
+  const trivox::Volume& v = column();
+  const trivox::GlobalSolver solver(v);
+  const auto params = random_params(1024, 3);
+  std::vector<Vec3> points;
+  for (const Vec3& t : params) points.push_back(v.evaluate(t));
+  std::size_t i = 0;
+  std::int64_t boxes = 0;
+  for (auto _ : state) {
+    const trivox::GlobalResult r = solver.solve(points[i++ & 1023]);
+    boxes += r.boxes_visited;
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetItemsProcessed(state.iterations());
+  state.counters["boxes_per_solve"] = static_cast<double>(boxes) / static_cast<double>(state.iterations());
+}
+BENCHMARK(BM_GlobalSolve);
+
+}  // namespace
+
+BENCHMARK_MAIN();

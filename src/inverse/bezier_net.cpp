@@ -1,0 +1,176 @@
+#include "bezier_net.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace trivox::detail {
+
+namespace {
+using H = std::array<double, 4>;
+
+struct Interval {
+  double lo, hi;
+};
+Interval operator-(Interval a, Interval b) { return {a.lo - b.hi, a.hi - b.lo}; }
+Interval operator*(Interval a, Interval b) {
+  const double p[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi};
+  return {*std::min_element(p, p + 4), *std::max_element(p, p + 4)};
+}
+Interval divide_positive(Interval a, Interval b) {  // b.lo > 0
+  return a * Interval{1.0 / b.hi, 1.0 / b.lo};
+}
+}  // namespace
+
+Box3 BezierNet::bounds() const {
+  Box3 b;
+  for (const H& p : h) b.expand(Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]});
+  return b;
+}
+
+std::array<BezierNet, 2> BezierNet::halve(int d) const {
+  std::array<BezierNet, 2> out{*this, *this};
+  const double mid = 0.5 * (box.lo[d] + box.hi[d]);
+  out[0].box.hi[d] = mid;
+  out[1].box.lo[d] = mid;
+  const int n = order[static_cast<std::size_t>(d)];
+  std::vector<H> line(static_cast<std::size_t>(n));
+  const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+  for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
+    for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
+      std::array<int, 3> ijk{};
+      ijk[static_cast<std::size_t>(a)] = t;
+      ijk[static_cast<std::size_t>(b)] = s;
+      auto cell = [&](int i) -> std::array<int, 3> {
+        std::array<int, 3> c = ijk;
+        c[static_cast<std::size_t>(d)] = i;
+        return c;
+      };
+      for (int i = 0; i < n; ++i) {
+        const auto c = cell(i);
+        line[static_cast<std::size_t>(i)] = at(c[0], c[1], c[2]);
+      }
+      // de Casteljau at 1/2: after r averaging steps, line[0] is the left half's point r and
+      // line[n-1-r] the right half's point n-1-r.
+      for (int r = 0; r < n; ++r) {
+        const auto left = cell(r);
+        out[0].at(left[0], left[1], left[2]) = line[0];
+        const auto right = cell(n - 1 - r);
+        out[1].at(right[0], right[1], right[2]) = line[static_cast<std::size_t>(n - 1 - r)];
+        for (int i = 0; i < n - 1 - r; ++i)
+          for (int c = 0; c < 4; ++c)
+            line[static_cast<std::size_t>(i)][static_cast<std::size_t>(c)] =
+                0.5 * (line[static_cast<std::size_t>(i)][static_cast<std::size_t>(c)] +
+                       line[static_cast<std::size_t>(i + 1)][static_cast<std::size_t>(c)]);
+      }
+    }
+  return out;
+}
+
+double BezierNet::extent(int d) const {
+  double best = 0.0;
+  const int n = order[static_cast<std::size_t>(d)];
+  const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+  for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
+    for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
+      std::array<int, 3> first{}, last{};
+      first[static_cast<std::size_t>(a)] = last[static_cast<std::size_t>(a)] = t;
+      first[static_cast<std::size_t>(b)] = last[static_cast<std::size_t>(b)] = s;
+      first[static_cast<std::size_t>(d)] = 0;
+      last[static_cast<std::size_t>(d)] = n - 1;
+      const H& p = at(first[0], first[1], first[2]);
+      const H& q = at(last[0], last[1], last[2]);
+      const Vec3 pe{p[0] / p[3], p[1] / p[3], p[2] / p[3]}, qe{q[0] / q[3], q[1] / q[3], q[2] / q[3]};
+      // Also the polygon length, so a closed or bent line still counts as long.
+      double poly = 0.0;
+      for (int i = 1; i < n; ++i) {
+        std::array<int, 3> c0 = first, c1 = first;
+        c0[static_cast<std::size_t>(d)] = i - 1;
+        c1[static_cast<std::size_t>(d)] = i;
+        const H& u = at(c0[0], c0[1], c0[2]);
+        const H& v = at(c1[0], c1[1], c1[2]);
+        poly += norm(Vec3{u[0] / u[3] - v[0] / v[3], u[1] / u[3] - v[1] / v[3], u[2] / u[3] - v[2] / v[3]});
+      }
+      best = std::max({best, norm(qe - pe), poly});
+    }
+  return best;
+}
+
+bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi) const {
+  // x = X / W with X, W polynomial. d x / d p = (X_p - x W_p) / W, bounded by interval
+  // arithmetic over the hulls of the hodograph nets (X_p, W_p), of x (the Euclidean control
+  // box) and of W (the weights).
+  Interval W{HUGE_VAL, -HUGE_VAL};
+  for (const H& p : h) W = {std::min(W.lo, p[3]), std::max(W.hi, p[3])};
+  if (!(W.lo > 0)) return false;
+  const Box3 xb = bounds();
+  for (int d = 0; d < 3; ++d) {
+    const int n = order[static_cast<std::size_t>(d)];
+    std::array<Interval, 4> D;
+    D.fill({HUGE_VAL, -HUGE_VAL});
+    if (n == 1) {
+      D.fill({0.0, 0.0});
+    } else {
+      const double scale = (n - 1) / (box.hi[d] - box.lo[d]);
+      for (int k = 0; k < order[2]; ++k)
+        for (int j = 0; j < order[1]; ++j)
+          for (int i = 0; i < order[0]; ++i) {
+            std::array<int, 3> c{i, j, k};
+            if (c[static_cast<std::size_t>(d)] == n - 1) continue;
+            std::array<int, 3> c1 = c;
+            ++c1[static_cast<std::size_t>(d)];
+            const H& p0 = at(c[0], c[1], c[2]);
+            const H& p1 = at(c1[0], c1[1], c1[2]);
+            for (int q = 0; q < 4; ++q) {
+              const double v = scale * (p1[static_cast<std::size_t>(q)] - p0[static_cast<std::size_t>(q)]);
+              auto& I = D[static_cast<std::size_t>(q)];
+              I = {std::min(I.lo, v), std::max(I.hi, v)};
+            }
+          }
+    }
+    for (int r = 0; r < 3; ++r) {
+      const Interval xr{xb.lo[r], xb.hi[r]};
+      const Interval num = D[static_cast<std::size_t>(r)] - xr * D[3];
+      const Interval J = divide_positive(num, W);
+      lo.m[static_cast<std::size_t>(r)][static_cast<std::size_t>(d)] = J.lo;
+      hi.m[static_cast<std::size_t>(r)][static_cast<std::size_t>(d)] = J.hi;
+    }
+  }
+  return true;
+}
+
+bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian) {
+  // A = inverse of the centre Jacobian (adjugate / det).
+  const Mat3& C = centre_jacobian;
+  const double det = C.determinant();
+  if (!(std::abs(det) > 0)) return false;
+  Mat3 A;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+      A.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
+          (C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j1)] * C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j2)] -
+           C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j2)] * C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j1)]) /
+          det;
+    }
+  double worst_row = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    double row = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      // (A M)_ij as an interval, then |delta_ij - (A M)_ij| at its worst.
+      Interval s{0.0, 0.0};
+      for (int k = 0; k < 3; ++k) {
+        const double a = A.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
+        const double l = jac_lo.m[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+        const double h = jac_hi.m[static_cast<std::size_t>(k)][static_cast<std::size_t>(j)];
+        s.lo += std::min(a * l, a * h);
+        s.hi += std::max(a * l, a * h);
+      }
+      const double delta = i == j ? 1.0 : 0.0;
+      row += std::max(std::abs(delta - s.lo), std::abs(delta - s.hi));
+    }
+    worst_row = std::max(worst_row, row);
+  }
+  return worst_row < 1.0;
+}
+
+}  // namespace trivox::detail

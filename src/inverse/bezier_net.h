@@ -1,0 +1,45 @@
+// A trivariate Bezier piece in homogeneous form, as the global solver subdivides it: the
+// control net (w*x, w*y, w*z, w), u fastest, over a parameter box of the original volume.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "trivox/math.h"
+
+namespace trivox::detail {
+
+struct BezierNet {
+  std::array<int, 3> order{};  // control points per direction
+  ParamBox box;                // the parameters of the original volume this net covers
+  std::vector<std::array<double, 4>> h;
+
+  const std::array<double, 4>& at(int i, int j, int k) const {
+    return h[static_cast<std::size_t>(i + order[0] * (j + order[1] * k))];
+  }
+  std::array<double, 4>& at(int i, int j, int k) {
+    return h[static_cast<std::size_t>(i + order[0] * (j + order[1] * k))];
+  }
+
+  // Box of the Euclidean control points: contains the image of the net's box.
+  Box3 bounds() const;
+
+  // Splits at the middle of direction d (de Casteljau at 1/2, exact in homogeneous form).
+  std::array<BezierNet, 2> halve(int d) const;
+
+  // Euclidean length of the net along direction d (largest distance between the first and
+  // last control points of a line along d): the direction worth splitting first.
+  double extent(int d) const;
+
+  // Conservative interval bounds of the Jacobian over the box: lo/hi of d x_r / d p_c.
+  // Returns false when a weight interval reaches zero (cannot happen for valid input).
+  bool jacobian_bounds(Mat3& lo, Mat3& hi) const;
+};
+
+// True when the map is provably one-to-one on the net's box: with A the inverse of the
+// Jacobian at the box centre (`centre_jacobian`), every matrix M in the interval Jacobian
+// satisfies ||I - A M||_inf < 1, so every M is invertible and V(a) - V(b) = M (a - b) != 0
+// for a != b (mean value theorem, row by row).
+bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian);
+
+}  // namespace trivox::detail

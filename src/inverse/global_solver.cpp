@@ -1,0 +1,179 @@
+// Global inversion by subdivision (the role of the paper's multivariate solver [11]):
+// prune Bezier pieces whose control box misses x, prove one-to-one boxes with an interval
+// Jacobian test and run Newton there, split the rest, and classify what was found.
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "bezier_net.h"
+#include "newton.h"
+#include "trivox/inverse/invert.h"
+#include "trivox/spline/refine.h"
+
+namespace trivox {
+
+std::string_view to_string(GlobalStatus s) noexcept {
+  switch (s) {
+    case GlobalStatus::kNone: return "none";
+    case GlobalStatus::kUnique: return "unique";
+    case GlobalStatus::kMultiple: return "multiple";
+    case GlobalStatus::kDegenerate: return "degenerate";
+    case GlobalStatus::kIncomplete: return "incomplete";
+  }
+  return "unknown";
+}
+
+struct GlobalSolver::Impl {
+  detail::BezierNet net;
+  Box3 bounds;
+};
+
+GlobalSolver::GlobalSolver(const Volume& volume) : volume_(&volume) {
+  for (const TensorSpline& piece : bezier_patches(volume.spline())) {
+    Impl impl;
+    for (int d = 0; d < 3; ++d) {
+      impl.net.order[static_cast<std::size_t>(d)] = piece.knots(d).order();
+      impl.net.box.lo[d] = piece.lo(d);
+      impl.net.box.hi[d] = piece.hi(d);
+    }
+    impl.net.h.resize(static_cast<std::size_t>(piece.total_ctrl()));
+    for (int k = 0; k < piece.num_ctrl(2); ++k)
+      for (int j = 0; j < piece.num_ctrl(1); ++j)
+        for (int i = 0; i < piece.num_ctrl(0); ++i) {
+          const auto p = piece.point(i, j, k);
+          const double w = piece.weight(i, j, k);
+          impl.net.at(i, j, k) = {w * p[0], w * p[1], w * p[2], w};
+        }
+    impl.bounds = impl.net.bounds();
+    pieces_.push_back(std::move(impl));
+  }
+  // Typical |det J| (mean over a 5^3 grid) sets the scale for calling a root singular.
+  const ParamBox& dom = volume.domain();
+  double sum = 0.0;
+  for (int k = 0; k < 5; ++k)
+    for (int j = 0; j < 5; ++j)
+      for (int i = 0; i < 5; ++i) {
+        const Vec3 t{dom.lo.x + (i + 0.5) / 5 * dom.size().x, dom.lo.y + (j + 0.5) / 5 * dom.size().y,
+                     dom.lo.z + (k + 0.5) / 5 * dom.size().z};
+        Vec3 p;
+        Mat3 J;
+        volume.evaluate_jacobian(t, p, J);
+        sum += std::abs(J.determinant());
+      }
+  typical_abs_det_ = sum > 0 ? sum / 125.0 : 1.0;
+}
+
+GlobalSolver::~GlobalSolver() = default;
+GlobalSolver::GlobalSolver(GlobalSolver&&) noexcept = default;
+GlobalSolver& GlobalSolver::operator=(GlobalSolver&&) noexcept = default;
+
+GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params) const {
+  GlobalResult result;
+  const Volume& volume = *volume_;
+  const ParamBox& dom = volume.domain();
+  const double tol = params.newton.residual_tolerance_model;
+  // Boxes are kept when x is within the tolerance (plus rounding of the box itself).
+  const double box_tol = tol + 1e-12 * volume.bounds().diagonal();
+  const Vec3 dom_size = dom.size();
+  bool exhausted = false;
+
+  std::vector<Preimage> found;
+  auto try_newton = [&](const ParamBox& box) {
+    const InverseResult r = detail::newton_in_box(volume, x, box.center(), dom, params.newton);
+    if (r.status != InverseStatus::kConverged) return false;
+    // Keep the root only when it lies in this box (up to a sliver): a root elsewhere is
+    // found again by the box that holds it.
+    Vec3 slack;
+    for (int d = 0; d < 3; ++d) slack[d] = 1e-9 * dom_size[d];
+    if (!ParamBox{box.lo - slack, box.hi + slack}.contains(r.uvw)) return false;
+    Vec3 p;
+    Mat3 J;
+    volume.evaluate_jacobian(r.uvw, p, J);
+    found.push_back({r.uvw, r.residual, J.determinant()});
+    return true;
+  };
+
+  // Depth-first over a stack; pieces are pushed in reverse so that they pop in order,
+  // which keeps the search (and so its result) deterministic.
+  std::vector<detail::BezierNet> stack;
+  for (auto it = pieces_.rbegin(); it != pieces_.rend(); ++it)
+    if (it->bounds.contains(x, box_tol)) stack.push_back(it->net);
+
+  while (!stack.empty()) {
+    detail::BezierNet net = std::move(stack.back());
+    stack.pop_back();
+    const Box3 b = net.bounds();
+    if (!b.contains(x, box_tol)) continue;
+    if (++result.boxes_visited > params.max_boxes) {
+      exhausted = true;
+      break;
+    }
+    // A box whose image is below the tolerance is a leaf: whatever root it holds is found by
+    // Newton from its centre.
+    const Vec3 psize = net.box.size();
+    const bool tiny = b.diagonal() <= tol ||
+                      (psize.x <= 1e-12 * dom_size.x && psize.y <= 1e-12 * dom_size.y && psize.z <= 1e-12 * dom_size.z);
+    if (tiny) {
+      try_newton(net.box);
+      continue;
+    }
+    Mat3 lo, hi;
+    if (net.jacobian_bounds(lo, hi)) {
+      Vec3 p;
+      Mat3 Jc;
+      volume.evaluate_jacobian(net.box.center(), p, Jc);
+      if (detail::injective_on_box(lo, hi, Jc) && try_newton(net.box)) continue;  // its only root
+    }
+    int split_dir = 0;
+    double best = -1.0;
+    for (int d = 0; d < 3; ++d) {
+      const double e = net.extent(d);
+      if (e > best && psize[d] > 1e-12 * dom_size[d]) {
+        best = e;
+        split_dir = d;
+      }
+    }
+    auto halves = net.halve(split_dir);
+    stack.push_back(std::move(halves[1]));
+    stack.push_back(std::move(halves[0]));
+  }
+
+  // Merge roots found twice (adjacent boxes), then order them.
+  std::sort(found.begin(), found.end(), [](const Preimage& a, const Preimage& b) {
+    return std::tie(a.uvw.x, a.uvw.y, a.uvw.z) < std::tie(b.uvw.x, b.uvw.y, b.uvw.z);
+  });
+  for (const Preimage& p : found) {
+    const bool duplicate = std::any_of(result.preimages.begin(), result.preimages.end(), [&](const Preimage& q) {
+      for (int d = 0; d < 3; ++d)
+        if (std::abs(p.uvw[d] - q.uvw[d]) > params.same_root_relative * dom_size[d]) return false;
+      return true;
+    });
+    if (!duplicate) result.preimages.push_back(p);
+  }
+  // Two preimages joined by a segment that V maps onto x lie on one degenerate set (a face
+  // or edge collapsed to a point or line), not on two sheets of a fold.
+  const std::size_t n = result.preimages.size();
+  std::vector<bool> singular(n, false);
+  for (std::size_t i = 0; i < n; ++i)
+    singular[i] = !(std::abs(result.preimages[i].det) > params.singular_relative * typical_abs_det_);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      bool joined = true;
+      for (double s : {0.25, 0.5, 0.75}) {
+        const Vec3 t = (1 - s) * result.preimages[i].uvw + s * result.preimages[j].uvw;
+        if (norm(volume.evaluate(t) - x) > 10 * tol) joined = false;
+      }
+      if (joined) singular[i] = singular[j] = true;
+    }
+  int regular = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!singular[i]) ++regular;
+  if (exhausted) result.status = GlobalStatus::kIncomplete;
+  else if (result.preimages.empty()) result.status = GlobalStatus::kNone;
+  else if (regular >= 2) result.status = GlobalStatus::kMultiple;
+  else if (regular == 1) result.status = GlobalStatus::kUnique;
+  else result.status = GlobalStatus::kDegenerate;
+  return result;
+}
+
+}  // namespace trivox

@@ -1,0 +1,85 @@
+#include "newton.h"
+
+#include <cmath>
+
+namespace trivox {
+
+std::string_view to_string(InverseStatus s) noexcept {
+  switch (s) {
+    case InverseStatus::kConverged: return "converged";
+    case InverseStatus::kOutside: return "outside";
+    case InverseStatus::kNoConvergence: return "no-convergence";
+    case InverseStatus::kSingular: return "singular";
+  }
+  return "unknown";
+}
+
+namespace detail {
+
+// Newton's step d solves J d = x - V. A step that would leave the box is cut back to the box
+// (projected Newton); if the iterate then cannot move, x lies beyond that face. A step that
+// increases the residual is halved (backtracking), which is checked lazily with the next
+// evaluation so that the common, well-behaved case costs one evaluation per iteration.
+InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const ParamBox& box,
+                            const InverseParams& params) noexcept {
+  InverseResult r;
+  const Vec3 size = box.size();
+  const double stall = 1e-13 * max_abs(size);
+  Vec3 uvw = box.clamp(start);
+  Vec3 prev_uvw = uvw, prev_step{};
+  double prev_res = HUGE_VAL;
+  int halvings = 0;
+  for (int it = 1; it <= params.max_iterations; ++it) {
+    Vec3 p;
+    Mat3 J;
+    volume.evaluate_jacobian(uvw, p, J);
+    r.iterations = it;
+    const Vec3 diff = x - p;
+    const double res = norm(diff);
+    r.uvw = uvw;
+    r.residual = res;
+    if (res <= params.residual_tolerance_model) {
+      r.status = InverseStatus::kConverged;
+      return r;
+    }
+    if (!(res < prev_res) && halvings < 8 && it > 1) {
+      // The last step overshot: retreat halfway along it and try again.
+      prev_step = 0.5 * prev_step;
+      uvw = box.clamp(prev_uvw + prev_step);
+      ++halvings;
+      continue;
+    }
+    halvings = 0;
+    // Singular when det J is negligible against the product of the column lengths (the
+    // volume of the parallelepiped against the volume its edges could span).
+    const double scale = norm(J.column(0)) * norm(J.column(1)) * norm(J.column(2));
+    Vec3 d;
+    if (!solve3(J, diff, d, 1e-14 * scale)) {
+      r.status = InverseStatus::kSingular;
+      return r;
+    }
+    const Vec3 target = uvw + d;
+    const Vec3 next = box.clamp(target);
+    bool pushed_out = false;
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(target[c] - next[c]) > params.outside_slack_relative * size[c]) pushed_out = true;
+    if (pushed_out && max_abs(next - uvw) <= stall) {
+      r.status = InverseStatus::kOutside;
+      return r;
+    }
+    prev_uvw = uvw;
+    prev_step = next - uvw;
+    prev_res = res;
+    uvw = next;
+  }
+  r.status = InverseStatus::kNoConvergence;
+  return r;
+}
+
+}  // namespace detail
+
+InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params) {
+  return detail::newton_in_box(volume, x, hint, volume.domain(), params);
+}
+
+}  // namespace trivox
