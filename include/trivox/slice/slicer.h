@@ -1,0 +1,61 @@
+// Slicing one layer of a scene: outline, inverse per pixel, material, dithering (Algorithm 1).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "trivox/raster/material_grid.h"
+#include "trivox/scene/scene.h"
+#include "trivox/slice/layout.h"
+#include "trivox/slice/slice_params.h"
+
+namespace trivox {
+
+// The columns of the paper's Table 2, per layer.
+struct LayerStats {
+  int layer = 0;
+  double z_mm = 0;
+  double seconds = 0;                  // wall time of this layer (not part of the output bytes)
+  std::int64_t pixels_total = 0;       // pixels in the bitmap
+  std::int64_t pixels_inside = 0;      // pixels inside some cell
+  std::int64_t candidates = 0;         // pixels inverted (inside the widened outlines)
+  std::int64_t global_calls = 0;       // global solves
+  std::int64_t newton_evals = 0;       // evaluations of V and J in Newton iterations
+  std::int64_t folded_pixels = 0;      // pixels where a cell folds (several preimages)
+  std::int64_t unresolved_pixels = 0;  // pixels where the global solver ran out of budget
+  std::vector<std::int64_t> voxels_per_material;  // after dithering; index = scene material
+};
+
+struct LayerResult {
+  LabelImage labels;  // 0 = void / background, 1 + j = scene material j
+  LayerStats stats;
+};
+
+class Slicer {
+ public:
+  // Prepares every cell (boundary mesh, global solver) and the layout. `scene` must outlive
+  // the slicer. Throws trivox::Error for invalid parameters.
+  Slicer(const Scene& scene, SliceParams params);
+  ~Slicer();
+  Slicer(const Slicer&) = delete;
+  Slicer& operator=(const Slicer&) = delete;
+
+  const SliceLayout& layout() const noexcept { return layout_; }
+  const SliceParams& params() const noexcept { return params_; }
+  const Scene& scene() const noexcept { return scene_; }
+
+  // Slices layer `layer` (0 .. layout().num_layers - 1). Safe to call from several threads
+  // at once; the result depends only on the scene, the parameters and `layer`.
+  LayerResult slice_layer(int layer) const;
+
+ private:
+  struct CellData;
+  const Scene& scene_;
+  SliceParams params_;
+  double outline_tolerance_mm_ = 0;
+  SliceLayout layout_;
+  std::vector<std::unique_ptr<CellData>> cells_;
+};
+
+}  // namespace trivox

@@ -1,0 +1,90 @@
+#include "trivox/output/layer_writer.h"
+
+#include <algorithm>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "trivox/error.h"
+
+namespace trivox {
+
+std::string layer_number(int index, int total_layers) {
+  const int digits = std::max(5, static_cast<int>(fmt::format("{}", total_layers).size()));
+  return fmt::format("{:0{}d}", index + 1, digits);
+}
+
+namespace {
+
+class VoxelPrintWriter final : public LayerWriter {
+ public:
+  explicit VoxelPrintWriter(OutputContext c) : c_(std::move(c)) {
+    // Colour-exact output needs one distinct colour per material and for the background.
+    std::vector<std::array<std::uint8_t, 4>> all = c_.material_rgba;
+    all.push_back(c_.background_rgba);
+    std::sort(all.begin(), all.end());
+    if (std::adjacent_find(all.begin(), all.end()) != all.end())
+      throw Error("Voxel Print output needs a distinct RGBA colour for every material and for the background");
+    palette_.push_back(c_.background_rgba);
+    palette_.insert(palette_.end(), c_.material_rgba.begin(), c_.material_rgba.end());
+  }
+  std::string_view name() const noexcept override { return "voxelprint"; }
+  std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
+    std::vector<std::uint8_t> rgba(labels.values().size() * 4);
+    std::size_t o = 0;
+    for (std::uint8_t label : labels.values()) {
+      const auto& c = palette_[label];
+      rgba[o++] = c[0];
+      rgba[o++] = c[1];
+      rgba[o++] = c[2];
+      rgba[o++] = c[3];
+    }
+    std::string file = c_.prefix + layer_number(index, c_.total_layers) + ".png";
+    write_png_rgba(c_.dir / file, labels.width_px(), labels.height_px(), rgba, c_.png);
+    return {file};
+  }
+
+ private:
+  OutputContext c_;
+  std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label
+};
+
+class MaterialBitmapWriter final : public LayerWriter {
+ public:
+  explicit MaterialBitmapWriter(OutputContext c) : c_(std::move(c)) {}
+  std::string_view name() const noexcept override { return "bitmaps"; }
+  std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
+    std::vector<std::string> files;
+    std::vector<std::uint8_t> bits(labels.values().size());
+    for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
+      const auto label = LabelImage::label_of_material(static_cast<int>(j));
+      std::transform(labels.values().begin(), labels.values().end(), bits.begin(),
+                     [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
+      std::string file = fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers),
+                                     c_.material_names[j]);
+      write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, c_.png);
+      files.push_back(std::move(file));
+    }
+    return files;
+  }
+
+ private:
+  OutputContext c_;
+};
+
+}  // namespace
+
+std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context) {
+  if (format == "voxelprint") return std::make_unique<VoxelPrintWriter>(context);
+  if (format == "bitmaps") {
+    std::error_code ec;
+    std::filesystem::create_directories(context.dir / "bitmaps", ec);
+    if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
+    return std::make_unique<MaterialBitmapWriter>(context);
+  }
+  throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
+}
+
+std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps"}; }
+
+}  // namespace trivox

@@ -1,0 +1,144 @@
+#include "boundary_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace trivox::detail {
+
+namespace {
+
+std::vector<double> samples_of(double lo, double hi, int n) {
+  std::vector<double> t(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) t[static_cast<std::size_t>(i)] = i == n - 1 ? hi : lo + (hi - lo) * i / (n - 1);
+  return t;
+}
+
+// Largest deviation between a face's surface and its bilinear grid cells, checked at cell
+// centres, for the face where direction `fixed` is at `at`; `a` and `b` are the other two.
+double face_deviation(const Volume& v, int fixed, double at, int a, const std::vector<double>& ta, int b,
+                      const std::vector<double>& tb) {
+  double worst = 0.0;
+  auto eval = [&](double s, double t) {
+    Vec3 p;
+    p[fixed] = at;
+    p[a] = s;
+    p[b] = t;
+    return v.evaluate(p);
+  };
+  std::vector<Vec3> prev(ta.size()), cur(ta.size());
+  for (std::size_t i = 0; i < ta.size(); ++i) prev[i] = eval(ta[i], tb[0]);
+  for (std::size_t j = 1; j < tb.size(); ++j) {
+    for (std::size_t i = 0; i < ta.size(); ++i) cur[i] = eval(ta[i], tb[j]);
+    for (std::size_t i = 1; i < ta.size(); ++i) {
+      const Vec3 bilinear = 0.25 * (prev[i - 1] + prev[i] + cur[i - 1] + cur[i]);
+      const Vec3 centre = eval(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
+      worst = std::max(worst, norm(centre - bilinear));
+    }
+    std::swap(prev, cur);
+  }
+  return worst;
+}
+
+}  // namespace
+
+BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
+  const ParamBox& dom = v.domain();
+  // Start from a few samples per polynomial piece and double where a face is too coarse.
+  for (int d = 0; d < 3; ++d)
+    n_[static_cast<std::size_t>(d)] = std::max(3, 2 * (static_cast<int>(v.spline().knots(d).interior_breaks().size()) + 1) + 1);
+  constexpr int kMaxSamples = 4096;
+  for (int round = 0; round < 12; ++round) {
+    std::array<std::vector<double>, 3> t;
+    for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+    std::array<bool, 3> refine{false, false, false};
+    for (int fixed = 0; fixed < 3; ++fixed) {
+      const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
+      for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
+        if (face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]) > tolerance_mm) {
+          refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
+        }
+      }
+    }
+    bool any = false;
+    for (int d = 0; d < 3; ++d)
+      if (refine[static_cast<std::size_t>(d)] && n_[static_cast<std::size_t>(d)] < kMaxSamples) {
+        n_[static_cast<std::size_t>(d)] = std::min(kMaxSamples, 2 * n_[static_cast<std::size_t>(d)] - 1);
+        any = true;
+      }
+    if (!any) break;
+  }
+
+  // Vertices are keyed by their grid index (i, j, k) on the boundary so shared edges reuse them.
+  std::array<std::vector<double>, 3> t;
+  for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+  std::map<std::array<int, 3>, int> index;
+  auto vertex = [&](std::array<int, 3> ijk) {
+    auto [it, inserted] = index.try_emplace(ijk, static_cast<int>(vertices_.size()));
+    if (inserted) {
+      const Vec3 p = v.evaluate({t[0][static_cast<std::size_t>(ijk[0])], t[1][static_cast<std::size_t>(ijk[1])],
+                                 t[2][static_cast<std::size_t>(ijk[2])]});
+      vertices_.push_back(p);
+      bounds_.expand(p);
+    }
+    return it->second;
+  };
+  for (int fixed = 0; fixed < 3; ++fixed) {
+    const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
+    for (int side : {0, n_[static_cast<std::size_t>(fixed)] - 1}) {
+      for (int j = 1; j < n_[static_cast<std::size_t>(b)]; ++j)
+        for (int i = 1; i < n_[static_cast<std::size_t>(a)]; ++i) {
+          auto at = [&](int ii, int jj) {
+            std::array<int, 3> ijk{};
+            ijk[static_cast<std::size_t>(fixed)] = side;
+            ijk[static_cast<std::size_t>(a)] = ii;
+            ijk[static_cast<std::size_t>(b)] = jj;
+            return vertex(ijk);
+          };
+          const int q00 = at(i - 1, j - 1), q10 = at(i, j - 1), q01 = at(i - 1, j), q11 = at(i, j);
+          triangles_.push_back({q00, q10, q11});
+          triangles_.push_back({q00, q11, q01});
+        }
+    }
+  }
+  // Height buckets of about a millimetre-scale slab each (64 across the model).
+  const int nb = 64;
+  bucket_z0_ = bounds_.lo.z;
+  bucket_dz_ = std::max(bounds_.size().z / nb, 1e-9);
+  buckets_.assign(static_cast<std::size_t>(nb), {});
+  for (std::size_t tri = 0; tri < triangles_.size(); ++tri) {
+    double zlo = HUGE_VAL, zhi = -HUGE_VAL;
+    for (int c : triangles_[tri]) {
+      zlo = std::min(zlo, vertices_[static_cast<std::size_t>(c)].z);
+      zhi = std::max(zhi, vertices_[static_cast<std::size_t>(c)].z);
+    }
+    const int b0 = std::clamp(static_cast<int>((zlo - bucket_z0_) / bucket_dz_), 0, nb - 1);
+    const int b1 = std::clamp(static_cast<int>((zhi - bucket_z0_) / bucket_dz_), 0, nb - 1);
+    for (int b = b0; b <= b1; ++b) buckets_[static_cast<std::size_t>(b)].push_back(static_cast<int>(tri));
+  }
+}
+
+void BoundaryMesh::cut(double z, std::vector<Segment2>& out) const {
+  out.clear();
+  if (z < bounds_.lo.z || z > bounds_.hi.z) return;
+  const int b = std::clamp(static_cast<int>((z - bucket_z0_) / bucket_dz_), 0, static_cast<int>(buckets_.size()) - 1);
+  for (int tri : buckets_[static_cast<std::size_t>(b)]) {
+    const auto& t = triangles_[static_cast<std::size_t>(tri)];
+    // A vertex at or above the plane counts as above; a crossing edge has one of each.
+    Vec3 pts[2];
+    int found = 0;
+    for (int e = 0; e < 3; ++e) {
+      int ia = t[static_cast<std::size_t>(e)], ib = t[static_cast<std::size_t>((e + 1) % 3)];
+      if (ia > ib) std::swap(ia, ib);  // fixed order: shared edges cut identically
+      const Vec3& a = vertices_[static_cast<std::size_t>(ia)];
+      const Vec3& bb = vertices_[static_cast<std::size_t>(ib)];
+      if ((a.z >= z) == (bb.z >= z)) continue;
+      const double s = (z - a.z) / (bb.z - a.z);
+      if (found < 2) pts[found] = a + s * (bb - a);
+      ++found;
+    }
+    if (found == 2) out.push_back({pts[0].x, pts[0].y, pts[1].x, pts[1].y});
+  }
+}
+
+}  // namespace trivox::detail

@@ -1,0 +1,99 @@
+#include "cell_tracer.h"
+
+#include <algorithm>
+
+namespace trivox::detail {
+
+TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
+  candidates += o.candidates;
+  inside += o.inside;
+  global_calls += o.global_calls;
+  newton_evals += o.newton_evals;
+  folded += o.folded;
+  unresolved += o.unresolved;
+  return *this;
+}
+
+CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px)
+    : volume_(volume),
+      solver_(solver),
+      params_(params),
+      cur_uvw_(static_cast<std::size_t>(width_px)),
+      prev_uvw_(static_cast<std::size_t>(width_px)),
+      cur_ok_(static_cast<std::size_t>(width_px), 0),
+      prev_ok_(static_cast<std::size_t>(width_px), 0) {}
+
+void CellTracer::begin_layer(double z_mm) {
+  z_mm_ = z_mm;
+  last_row_ = -2;
+  std::fill(cur_ok_.begin(), cur_ok_.end(), 0);
+  std::fill(prev_ok_.begin(), prev_ok_.end(), 0);
+}
+
+bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
+  const auto c = static_cast<std::size_t>(col);
+  const int width = static_cast<int>(cur_ok_.size());
+  // Seeds in the order the strategy allows (Table 1 of the paper).
+  const Vec3* seeds[4];
+  int n = 0;
+  const TracingStrategy s = params_.tracing;
+  if (s != TracingStrategy::kNone && col > 0 && cur_ok_[c - 1]) seeds[n++] = &cur_uvw_[c - 1];
+  if ((s == TracingStrategy::kPreviousLine || s == TracingStrategy::kFull) && prev_ok_[c]) seeds[n++] = &prev_uvw_[c];
+  if (s == TracingStrategy::kFull) {
+    if (col > 0 && prev_ok_[c - 1]) seeds[n++] = &prev_uvw_[c - 1];
+    if (col + 1 < width && prev_ok_[c + 1]) seeds[n++] = &prev_uvw_[c + 1];
+  }
+  for (int i = 0; i < n; ++i) {
+    const InverseResult r = invert(volume_, x, *seeds[i], params_.newton);
+    counters_.newton_evals += r.iterations;
+    if (r.status == InverseStatus::kConverged) {
+      uvw = r.uvw;
+      return true;
+    }
+  }
+  ++counters_.global_calls;
+  const GlobalResult g = solver_.solve(x, params_.global);
+  switch (g.status) {
+    case GlobalStatus::kNone: return false;
+    case GlobalStatus::kIncomplete:
+      ++counters_.unresolved;
+      if (g.preimages.empty()) return false;
+      break;
+    case GlobalStatus::kMultiple: ++counters_.folded; break;
+    case GlobalStatus::kUnique:
+    case GlobalStatus::kDegenerate: break;
+  }
+  // Deterministic choice: the preimages are sorted by (u, v, w).
+  uvw = g.preimages.front().uvw;
+  return true;
+}
+
+void CellTracer::trace_row(const SliceLayout& L, int row, const std::vector<std::pair<int, int>>& spans, TracedRow& out) {
+  out.cols.clear();
+  out.uvw.clear();
+  out.xyz.clear();
+  if (row == last_row_ + 1) {
+    std::swap(cur_uvw_, prev_uvw_);
+    std::swap(cur_ok_, prev_ok_);
+  } else {
+    std::fill(prev_ok_.begin(), prev_ok_.end(), 0);
+  }
+  std::fill(cur_ok_.begin(), cur_ok_.end(), 0);
+  last_row_ = row;
+  const double y = L.y_of_row(row);
+  for (const auto& [c0, c1] : spans)
+    for (int col = c0; col <= c1; ++col) {
+      ++counters_.candidates;
+      const Vec3 x{L.x_of_col(col), y, z_mm_};
+      Vec3 uvw;
+      if (!solve_pixel(x, col, uvw)) continue;
+      cur_ok_[static_cast<std::size_t>(col)] = 1;
+      cur_uvw_[static_cast<std::size_t>(col)] = uvw;
+      ++counters_.inside;
+      out.cols.push_back(col);
+      out.uvw.push_back(uvw);
+      out.xyz.push_back(x);
+    }
+}
+
+}  // namespace trivox::detail

@@ -1,0 +1,79 @@
+#include "scanline.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace trivox::detail {
+
+namespace {
+
+// Rows whose centre y lies in [ylo, yhi], clamped to the image.
+std::pair<int, int> rows_between(const SliceLayout& L, double ylo, double yhi) {
+  const int r0 = std::max(0, static_cast<int>(std::ceil(L.row_of_y(yhi))));
+  const int r1 = std::min(L.height_px - 1, static_cast<int>(std::floor(L.row_of_y(ylo))));
+  return {r0, r1};
+}
+
+void add_span(RowSpans& rows, const SliceLayout& L, int row, double xlo, double xhi) {
+  const int c0 = std::max(0, static_cast<int>(std::ceil(L.col_of_x(xlo))));
+  const int c1 = std::min(L.width_px - 1, static_cast<int>(std::floor(L.col_of_x(xhi))));
+  if (c0 <= c1) rows[static_cast<std::size_t>(row)].push_back({c0, c1});
+}
+
+}  // namespace
+
+void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
+  rows.assign(static_cast<std::size_t>(L.height_px), {});
+  std::vector<std::vector<double>> crossings(static_cast<std::size_t>(L.height_px));
+  for (const Segment2& s : segments) {
+    // Crossings with the row centre lines, by the rule "y >= y_c counts as above" applied
+    // to each endpoint, so two segments sharing an endpoint never both count it.
+    const auto [r0, r1] = rows_between(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    for (int r = r0; r <= r1; ++r) {
+      const double yc = L.y_of_row(r);
+      if ((s.y0 >= yc) == (s.y1 >= yc)) continue;
+      crossings[static_cast<std::size_t>(r)].push_back(s.x0 + (yc - s.y0) / (s.y1 - s.y0) * (s.x1 - s.x0));
+    }
+    // The band of centres within m of the segment: clip it to each nearby row's strip.
+    const auto [b0, b1] = rows_between(L, std::min(s.y0, s.y1) - m, std::max(s.y0, s.y1) + m);
+    for (int r = b0; r <= b1; ++r) {
+      const double yc = L.y_of_row(r);
+      double xlo, xhi;
+      if (s.y0 == s.y1) {
+        xlo = std::min(s.x0, s.x1);
+        xhi = std::max(s.x0, s.x1);
+      } else {
+        double t0 = (yc - m - s.y0) / (s.y1 - s.y0), t1 = (yc + m - s.y0) / (s.y1 - s.y0);
+        if (t0 > t1) std::swap(t0, t1);
+        t0 = std::clamp(t0, 0.0, 1.0);
+        t1 = std::clamp(t1, 0.0, 1.0);
+        const double xa = s.x0 + t0 * (s.x1 - s.x0), xb = s.x0 + t1 * (s.x1 - s.x0);
+        xlo = std::min(xa, xb);
+        xhi = std::max(xa, xb);
+      }
+      add_span(rows, L, r, xlo - m, xhi + m);
+    }
+  }
+  for (int r = 0; r < L.height_px; ++r) {
+    auto& xs = crossings[static_cast<std::size_t>(r)];
+    std::sort(xs.begin(), xs.end());
+    if (xs.size() % 2 == 1) {
+      add_span(rows, L, r, xs.front() - m, xs.back() + m);
+    } else {
+      for (std::size_t i = 0; i + 1 < xs.size(); i += 2) add_span(rows, L, r, xs[i] - m, xs[i + 1] + m);
+    }
+    // Merge overlapping and touching spans.
+    auto& spans = rows[static_cast<std::size_t>(r)];
+    std::sort(spans.begin(), spans.end());
+    std::vector<std::pair<int, int>> merged;
+    for (const auto& sp : spans) {
+      if (!merged.empty() && sp.first <= merged.back().second + 1)
+        merged.back().second = std::max(merged.back().second, sp.second);
+      else
+        merged.push_back(sp);
+    }
+    spans = std::move(merged);
+  }
+}
+
+}  // namespace trivox::detail
