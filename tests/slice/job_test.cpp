@@ -1,0 +1,132 @@
+// Whole jobs: files, formats, padding and determinism across thread counts.
+#include "trivox/slice/job.h"
+
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "slice/slice_fixtures.h"
+#include "trivox/output/layer_writer.h"
+#include "trivox/output/png_io.h"
+
+namespace trivox {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// A job with two materials: a gradient box and a ring cell on top of it.
+Scene two_material_scene() {
+  Scene s = test::scene_with({test::gradient_cell(test::box_volume({0, 0, 0}, {12, 6, 0.2}))}, 2);
+  s.cells.push_back(test::constant_cell(
+      Volume(test::annulus_sector(1, 4, 0.2).spline().transformed([](std::span<double> q) { q[0] += 6; })), 0, 2,
+      "ring"));
+  return s;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("trivox-job-test-" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+TEST(SliceJob, OutputIsIdenticalForOneAndTwoThreads) {
+  const Scene scene = two_material_scene();
+  const Slicer slicer(scene, {});
+  std::vector<fs::path> dirs;
+  std::vector<std::vector<std::string>> file_lists;
+  for (int threads : {1, 2, 2}) {
+    JobParams p;
+    p.output_dir = fresh_dir("threads" + std::to_string(threads) + "-" + std::to_string(dirs.size()));
+    p.threads = threads;
+    p.formats = {"voxelprint", "bitmaps"};
+    const JobStats st = run_slice_job(slicer, p);
+    dirs.push_back(p.output_dir);
+    file_lists.push_back(st.files);
+  }
+  ASSERT_FALSE(file_lists[0].empty());
+  EXPECT_EQ(file_lists[0], file_lists[1]);
+  EXPECT_EQ(file_lists[0], file_lists[2]);
+  for (const std::string& f : file_lists[0]) {
+    const std::string a = read_bytes(dirs[0] / f);
+    EXPECT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, read_bytes(dirs[1] / f)) << f;
+    EXPECT_EQ(a, read_bytes(dirs[2] / f)) << f;
+  }
+}
+
+TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
+  const Scene scene = two_material_scene();
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fresh_dir("formats");
+  p.formats = {"voxelprint", "bitmaps"};
+  const JobStats st = run_slice_job(slicer, p);
+  const SliceLayout& L = slicer.layout();
+  ASSERT_LT(L.num_layers, 30);  // 0.2 mm at 14 um: 15 layers, so the stack is padded
+  EXPECT_EQ(st.padded_layers, 30 - L.num_layers);
+
+  std::set<std::array<std::uint8_t, 4>> palette = {p.background_rgba};
+  for (const MaterialDef& m : scene.materials) palette.insert(m.rgba);
+  int stacks = 0;
+  for (int i = 0; i < 30; ++i) {
+    const std::string num = layer_number(i, 30);
+    const RgbaImage img = read_png_rgba(p.output_dir / ("slice_" + num + ".png"));
+    ASSERT_EQ(img.width_px, L.width_px);
+    ASSERT_EQ(img.height_px, L.height_px);
+    // Colour type 6 (RGBA) in the IHDR chunk: byte 25 of the file.
+    EXPECT_EQ(static_cast<unsigned char>(read_bytes(p.output_dir / ("slice_" + num + ".png"))[25]), 6u);
+    const RgbaImage b0 = read_png_rgba(p.output_dir / ("bitmaps/slice_" + num + "_m0.png"));
+    const RgbaImage b1 = read_png_rgba(p.output_dir / ("bitmaps/slice_" + num + "_m1.png"));
+    std::int64_t occupied = 0, in_bitmaps = 0;
+    for (std::size_t px = 0; px < img.rgba.size() / 4; ++px) {
+      const std::array<std::uint8_t, 4> c{img.rgba[4 * px], img.rgba[4 * px + 1], img.rgba[4 * px + 2], img.rgba[4 * px + 3]};
+      ASSERT_TRUE(palette.count(c)) << "colour outside the palette in layer " << i;
+      const bool on0 = b0.rgba[4 * px] != 0, on1 = b1.rgba[4 * px] != 0;
+      EXPECT_FALSE(on0 && on1);  // at most one material per voxel
+      const bool occupied_px = c != p.background_rgba;
+      occupied += occupied_px;
+      in_bitmaps += on0 || on1;
+      if (occupied_px) EXPECT_EQ(on0 ? scene.materials[0].rgba : scene.materials[1].rgba, c);
+    }
+    EXPECT_EQ(occupied, in_bitmaps);  // the bitmaps partition the occupied pixels
+    if (i < L.num_layers) EXPECT_GT(occupied, 0);
+    else EXPECT_EQ(occupied, 0);  // padding layers are empty
+    ++stacks;
+  }
+  EXPECT_EQ(stacks, 30);
+
+  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  EXPECT_EQ(stats["total"]["layers_sliced"], L.num_layers);
+  EXPECT_EQ(stats["total"]["layers_padded"], st.padded_layers);
+  EXPECT_EQ(stats["layers"].size(), static_cast<std::size_t>(L.num_layers));
+  EXPECT_GT(stats["total"]["pixels_inside"].get<std::int64_t>(), 0);
+}
+
+TEST(SliceJob, RefusesMoreMaterialsThanThePrinterTakes) {
+  Scene s = test::scene_with({test::constant_cell(test::box_volume({0, 0, 0}, {2, 2, 0.1}), 0, 4)}, 4, "j750-hs");
+  const Slicer slicer(s, {});
+  JobParams p;
+  p.output_dir = fresh_dir("too-many");
+  EXPECT_THROW(run_slice_job(slicer, p), Error);
+  EXPECT_FALSE(fs::exists(p.output_dir / "slice_00001.png"));
+}
+
+TEST(SliceJob, DuplicateColoursAreRejected) {
+  Scene s = test::scene_with({test::constant_cell(test::box_volume({0, 0, 0}, {2, 2, 0.1}), 0, 2)}, 2);
+  s.materials[1].rgba = s.materials[0].rgba;
+  const Slicer slicer(s, {});
+  JobParams p;
+  p.output_dir = fresh_dir("dup-colours");
+  EXPECT_THROW(run_slice_job(slicer, p), Error);
+}
+
+}  // namespace
+}  // namespace trivox
