@@ -99,7 +99,7 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   total.voxels_per_material.assign(static_cast<std::size_t>(slicer.scene().num_materials()), 0);
   for (const LayerStats& s : stats.layers) {
     const double share = s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
-    layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"pixels_total", s.pixels_total},
+    layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"seconds_inverse", s.seconds_inverse}, {"seconds_material", s.seconds_material}, {"seconds_dither", s.seconds_dither}, {"pixels_total", s.pixels_total},
                       {"pixels_inside", s.pixels_inside}, {"candidates", s.candidates}, {"global_calls", s.global_calls},
                       {"global_share_percent", share}, {"newton_evals", s.newton_evals},
                       {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},

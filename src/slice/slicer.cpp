@@ -63,6 +63,14 @@ LayerResult Slicer::slice_layer(int layer) const {
 
   // Cells in scene order; a later cell with non-empty material overwrites an earlier one
   // (the paper's rule for the pixels on shared boundaries).
+  using Clock = std::chrono::steady_clock;
+  auto lap = [](Clock::time_point& t) {
+    const auto now = Clock::now();
+    const double d = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return d;
+  };
+  auto t = Clock::now();
   for (const auto& cd : cells_) {
     cd->mesh.cut(st.z_mm, segments);
     if (segments.empty()) continue;
@@ -73,6 +81,7 @@ LayerResult Slicer::slice_layer(int layer) const {
       const auto& row_spans = spans[static_cast<std::size_t>(r)];
       if (row_spans.empty()) continue;
       tracer.trace_row(L, r, row_spans, row_out);
+      st.seconds_inverse += lap(t);
       const std::size_t n = row_out.cols.size();
       if (n == 0) continue;
       fractions.assign(n * static_cast<std::size_t>(m), 0.0f);
@@ -88,11 +97,14 @@ LayerResult Slicer::slice_layer(int layer) const {
         auto px = grid.pixel(col, r);
         std::copy(f, f + m, px.begin());
       }
+      st.seconds_material += lap(t);
     }
     counters += tracer.counters();
   }
 
+  st.seconds_inverse += lap(t);
   result.labels = dither(grid, inside, params_.dither);
+  st.seconds_dither = lap(t);
   st.voxels_per_material.assign(static_cast<std::size_t>(m), 0);
   for (std::uint8_t label : result.labels.values())
     if (label != LabelImage::kVoid) ++st.voxels_per_material[static_cast<std::size_t>(label - 1)];

@@ -5,6 +5,7 @@
 #include <iterator>
 #include <set>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -32,7 +33,7 @@ Scene two_material_scene() {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("trivox-job-test-" + name);
+  const fs::path dir = fs::temp_directory_path() / fmt::format("trivox-job-test-{}", name);
   fs::remove_all(dir);
   return dir;
 }
@@ -44,7 +45,7 @@ TEST(SliceJob, OutputIsIdenticalForOneAndTwoThreads) {
   std::vector<std::vector<std::string>> file_lists;
   for (int threads : {1, 2, 2}) {
     JobParams p;
-    p.output_dir = fresh_dir("threads" + std::to_string(threads) + "-" + std::to_string(dirs.size()));
+    p.output_dir = fresh_dir(fmt::format("threads{}-{}", threads, dirs.size()));
     p.threads = threads;
     p.formats = {"voxelprint", "bitmaps"};
     const JobStats st = run_slice_job(slicer, p);
@@ -78,13 +79,13 @@ TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
   int stacks = 0;
   for (int i = 0; i < 30; ++i) {
     const std::string num = layer_number(i, 30);
-    const RgbaImage img = read_png_rgba(p.output_dir / ("slice_" + num + ".png"));
+    const RgbaImage img = read_png_rgba(p.output_dir / (fmt::format("slice_{}.png", num)));
     ASSERT_EQ(img.width_px, L.width_px);
     ASSERT_EQ(img.height_px, L.height_px);
     // Colour type 6 (RGBA) in the IHDR chunk: byte 25 of the file.
-    EXPECT_EQ(static_cast<unsigned char>(read_bytes(p.output_dir / ("slice_" + num + ".png"))[25]), 6u);
-    const RgbaImage b0 = read_png_rgba(p.output_dir / ("bitmaps/slice_" + num + "_m0.png"));
-    const RgbaImage b1 = read_png_rgba(p.output_dir / ("bitmaps/slice_" + num + "_m1.png"));
+    EXPECT_EQ(static_cast<unsigned char>(read_bytes(p.output_dir / (fmt::format("slice_{}.png", num)))[25]), 6u);
+    const RgbaImage b0 = read_png_rgba(p.output_dir / (fmt::format("bitmaps/slice_{}_m0.png", num)));
+    const RgbaImage b1 = read_png_rgba(p.output_dir / (fmt::format("bitmaps/slice_{}_m1.png", num)));
     std::int64_t occupied = 0, in_bitmaps = 0;
     for (std::size_t px = 0; px < img.rgba.size() / 4; ++px) {
       const std::array<std::uint8_t, 4> c{img.rgba[4 * px], img.rgba[4 * px + 1], img.rgba[4 * px + 2], img.rgba[4 * px + 3]};
@@ -94,11 +95,16 @@ TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
       const bool occupied_px = c != p.background_rgba;
       occupied += occupied_px;
       in_bitmaps += on0 || on1;
-      if (occupied_px) EXPECT_EQ(on0 ? scene.materials[0].rgba : scene.materials[1].rgba, c);
+      if (occupied_px) {
+        EXPECT_EQ(on0 ? scene.materials[0].rgba : scene.materials[1].rgba, c);
+      }
     }
     EXPECT_EQ(occupied, in_bitmaps);  // the bitmaps partition the occupied pixels
-    if (i < L.num_layers) EXPECT_GT(occupied, 0);
-    else EXPECT_EQ(occupied, 0);  // padding layers are empty
+    if (i < L.num_layers) {
+      EXPECT_GT(occupied, 0);
+    } else {
+      EXPECT_EQ(occupied, 0);  // padding layers are empty
+    }
     ++stacks;
   }
   EXPECT_EQ(stacks, 30);

@@ -17,6 +17,9 @@ struct LayerStats {
   int layer = 0;
   double z_mm = 0;
   double seconds = 0;                  // wall time of this layer (not part of the output bytes)
+  double seconds_inverse = 0;          // of which outlines and inversion
+  double seconds_material = 0;         // material evaluation
+  double seconds_dither = 0;           // dithering
   std::int64_t pixels_total = 0;       // pixels in the bitmap
   std::int64_t pixels_inside = 0;      // pixels inside some cell
   std::int64_t candidates = 0;         // pixels inverted (inside the widened outlines)
