@@ -76,6 +76,45 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
   return r;
 }
 
+InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian,
+                            const InverseParams& params, Mat3& jacobian) noexcept {
+  const ParamBox& box = volume.domain();
+  Vec3 d;
+  Vec3 u0 = seed_uvw;
+  if (solve3(seed_jacobian, x - seed_x, d, 0.0)) u0 = box.clamp(seed_uvw + d);
+  Vec3 p;
+  volume.evaluate_jacobian(u0, p, jacobian);
+  InverseResult r;
+  r.iterations = 1;
+  r.uvw = u0;
+  r.residual = norm(x - p);
+  if (r.residual <= params.residual_tolerance_model) {
+    r.status = InverseStatus::kConverged;
+    return r;
+  }
+  const double scale = norm(jacobian.column(0)) * norm(jacobian.column(1)) * norm(jacobian.column(2));
+  if (solve3(jacobian, x - p, d, 1e-14 * scale)) {
+    const Vec3 target = u0 + d;
+    if (box.contains(target)) {
+      const Vec3 q = volume.evaluate(target);
+      r.iterations = 2;
+      r.uvw = target;
+      r.residual = norm(x - q);
+      if (r.residual <= params.residual_tolerance_model) {
+        r.status = InverseStatus::kConverged;
+        return r;
+      }
+    }
+  }
+  InverseResult full = newton_in_box(volume, x, r.uvw, box, params);
+  full.iterations += r.iterations;
+  if (full.status == InverseStatus::kConverged) {
+    Vec3 unused;
+    volume.evaluate_jacobian(full.uvw, unused, jacobian);
+  }
+  return full;
+}
+
 }  // namespace detail
 
 InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params) {

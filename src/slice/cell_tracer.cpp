@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "inverse/newton.h"
+
 namespace trivox::detail {
 
 TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
@@ -20,6 +22,8 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
       params_(params),
       cur_uvw_(static_cast<std::size_t>(width_px)),
       prev_uvw_(static_cast<std::size_t>(width_px)),
+      cur_jac_(static_cast<std::size_t>(width_px)),
+      prev_jac_(static_cast<std::size_t>(width_px)),
       cur_ok_(static_cast<std::size_t>(width_px), 0),
       prev_ok_(static_cast<std::size_t>(width_px), 0) {}
 
@@ -33,18 +37,27 @@ void CellTracer::begin_layer(double z_mm) {
 bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
   const auto c = static_cast<std::size_t>(col);
   const int width = static_cast<int>(cur_ok_.size());
-  // Seeds in the order the strategy allows (Table 1 of the paper).
-  const Vec3* seeds[4];
+  // Seeds in the order the strategy allows (Table 1 of the paper): the neighbour's solution,
+  // Jacobian and pixel centre.
+  struct Seed {
+    const Vec3* uvw;
+    const Mat3* jac;
+    Vec3 x;
+  };
+  Seed seeds[4];
   int n = 0;
   const TracingStrategy s = params_.tracing;
-  if (s != TracingStrategy::kNone && col > 0 && cur_ok_[c - 1]) seeds[n++] = &cur_uvw_[c - 1];
-  if ((s == TracingStrategy::kPreviousLine || s == TracingStrategy::kFull) && prev_ok_[c]) seeds[n++] = &prev_uvw_[c];
+  const double dx = pitch_x_, dy = pitch_y_;
+  if (s != TracingStrategy::kNone && col > 0 && cur_ok_[c - 1]) seeds[n++] = {&cur_uvw_[c - 1], &cur_jac_[c - 1], x - Vec3{dx, 0, 0}};
+  if ((s == TracingStrategy::kPreviousLine || s == TracingStrategy::kFull) && prev_ok_[c])
+    seeds[n++] = {&prev_uvw_[c], &prev_jac_[c], x + Vec3{0, dy, 0}};
   if (s == TracingStrategy::kFull) {
-    if (col > 0 && prev_ok_[c - 1]) seeds[n++] = &prev_uvw_[c - 1];
-    if (col + 1 < width && prev_ok_[c + 1]) seeds[n++] = &prev_uvw_[c + 1];
+    if (col > 0 && prev_ok_[c - 1]) seeds[n++] = {&prev_uvw_[c - 1], &prev_jac_[c - 1], x + Vec3{-dx, dy, 0}};
+    if (col + 1 < width && prev_ok_[c + 1]) seeds[n++] = {&prev_uvw_[c + 1], &prev_jac_[c + 1], x + Vec3{dx, dy, 0}};
   }
   for (int i = 0; i < n; ++i) {
-    const InverseResult r = invert(volume_, x, *seeds[i], params_.newton);
+    const InverseResult r =
+        invert_traced(volume_, x, *seeds[i].uvw, seeds[i].x, *seeds[i].jac, params_.newton, cur_jac_[c]);
     counters_.newton_evals += r.iterations;
     if (r.status == InverseStatus::kConverged) {
       uvw = r.uvw;
@@ -65,6 +78,8 @@ bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
   }
   // Deterministic choice: the preimages are sorted by (u, v, w).
   uvw = g.preimages.front().uvw;
+  Vec3 unused;
+  volume_.evaluate_jacobian(uvw, unused, cur_jac_[c]);
   return true;
 }
 
@@ -75,12 +90,15 @@ void CellTracer::trace_row(const SliceLayout& L, int row, const std::vector<std:
   if (row == last_row_ + 1) {
     std::swap(cur_uvw_, prev_uvw_);
     std::swap(cur_ok_, prev_ok_);
+    std::swap(cur_jac_, prev_jac_);
   } else {
     std::fill(prev_ok_.begin(), prev_ok_.end(), 0);
   }
   std::fill(cur_ok_.begin(), cur_ok_.end(), 0);
   last_row_ = row;
   const double y = L.y_of_row(row);
+  pitch_x_ = L.pitch_x_mm;
+  pitch_y_ = L.pitch_y_mm;
   for (const auto& [c0, c1] : spans)
     for (int col = c0; col <= c1; ++col) {
       ++counters_.candidates;

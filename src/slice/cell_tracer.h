@@ -52,6 +52,8 @@ class CellTracer {
   int last_row_ = -2;
   // Solutions of the current and previous rows (solved flag per column).
   std::vector<Vec3> cur_uvw_, prev_uvw_;
+  std::vector<Mat3> cur_jac_, prev_jac_;  // Jacobians near the solutions, for prediction
+  double pitch_x_ = 0, pitch_y_ = 0;  // mm, from the layout
   std::vector<std::uint8_t> cur_ok_, prev_ok_;
   TraceCounters counters_;
 };

@@ -64,7 +64,9 @@ Volume twisted_bent_box(double sx, double sy, double sz, int ctrl, int order) {
       for (int i = 0; i < ctrl; ++i) {
         const double u = g[static_cast<std::size_t>(i)], v = g[static_cast<std::size_t>(j)], t = g[static_cast<std::size_t>(k)];
         const double angle = 0.35 * t;  // twist: radians over the height
-        const double x0 = (u - 0.5) * sx, y0 = (v - 0.5) * sy;
+        // Rows bow in the plane of each layer too (a parabola in v), so that no layer is an
+        // affine image of the parameter plane.
+        const double x0 = (u - 0.5) * sx + 0.08 * sx * (v - 0.5) * (v - 0.5), y0 = (v - 0.5) * sy;
         const double x = std::cos(angle) * x0 - std::sin(angle) * y0;
         const double y = std::sin(angle) * x0 + std::cos(angle) * y0;
         const double bend = 0.15 * sx * (t - 0.5) * (t - 0.5);  // bend the column along x

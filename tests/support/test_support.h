@@ -21,7 +21,8 @@ Volume annulus_sector(double r0, double r1, double h);
 // the face u = 0 collapses onto the axis).
 Volume cylinder_sector(double r, double h);
 // A cubic 8x8x8 B-spline volume on [0,1]^3 mapping a box of size (sx, sy, sz) with a twist
-// about z and a bend; regular (det J > 0) everywhere.
+// about z, a bend along x over the height and rows bowed within each layer; regular
+// (det J > 0) everywhere.
 Volume twisted_bent_box(double sx, double sy, double sz, int ctrl = 8, int order = 4);
 
 }  // namespace trivox::test

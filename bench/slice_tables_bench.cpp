@@ -1,0 +1,111 @@
+// The paper's Tables 1 and 2 for a duck-class job, printed as Markdown rows for
+// docs/PERFORMANCE.md. The duck itself needs the volume constructors of a later release; this
+// job uses the analytic stand-in the issue names: a cubic 8x8x8 trivariate, bent and twisted,
+// filling a box of 128 x 128 x 88 mm, with the porous-tiles material, at 600 x 300 dpi and
+// 30 um layers (Stratasys J750, the paper's settings).
+//
+//   slice_tables_bench [--layers N] [--table1-scale S]
+// --layers N: Table 2 slices N layers spread evenly over the height (default 9) and reports
+//             per-layer figures and the projected total for all layers.
+// --table1-scale S: Table 1 runs on the same model scaled by S (default 0.25) so that the
+//             "none" row (a global solve per pixel) finishes in seconds.
+#include <chrono>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "support/test_support.h"
+#include "trivox/material/porous_tiles_material.h"
+#include "trivox/printer/printer_profile.h"
+#include "trivox/slice/slicer.h"
+
+namespace {
+
+using namespace trivox;
+
+Scene duck_class_scene(double scale) {
+  Scene s;
+  s.source = "duck-class benchmark";
+  s.printer = builtin_printer_profile("j750-paper");
+  s.materials = {{"green", {40, 170, 60, 255}}, {"blue", {30, 80, 200, 255}}};
+  Volume v = test::twisted_bent_box(128 * scale, 128 * scale, 88 * scale, 8, 4);
+  PorousTilesParams tiles;
+  tiles.tiles = {6, 6, 4};
+  tiles.radius = 0.3;
+  auto material = std::make_shared<PorousTilesMaterial>(tiles, 2, v.domain());
+  s.cells.push_back(Cell{"duck-class", "/cells/0", std::move(v), material});
+  return s;
+}
+
+int arg_int(int argc, char** argv, const char* name, int fallback) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], name) == 0) return std::stoi(argv[i + 1]);
+  return fallback;
+}
+double arg_double(int argc, char** argv, const char* name, double fallback) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], name) == 0) return std::stod(argv[i + 1]);
+  return fallback;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const int layers = arg_int(argc, argv, "--layers", 9);
+  const double t1_scale = arg_double(argc, argv, "--table1-scale", 0.25);
+
+  // Table 1: one middle layer, each strategy, single thread.
+  {
+    const Scene scene = duck_class_scene(t1_scale);
+    fmt::print("Table 1 (model scaled by {}; middle layer; one thread)\n\n", t1_scale);
+    fmt::print("| tracing | time [s] | global solves [% of inside voxels] | inside voxels |\n|---|---|---|---|\n");
+    for (TracingStrategy t : {TracingStrategy::kNone, TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine,
+                              TracingStrategy::kFull}) {
+      SliceParams p;
+      p.tracing = t;
+      const Slicer slicer(scene, p);
+      const LayerResult r = slicer.slice_layer(slicer.layout().num_layers / 2);
+      fmt::print("| {} | {:.3f} | {:.4f} | {} |\n", to_string(t), r.stats.seconds,
+                 100.0 * static_cast<double>(r.stats.global_calls) / static_cast<double>(r.stats.pixels_inside),
+                 r.stats.pixels_inside);
+    }
+  }
+
+  // Table 2: full size, sampled layers, single thread, full tracing.
+  {
+    const Scene scene = duck_class_scene(1.0);
+    const auto setup_start = std::chrono::steady_clock::now();
+    const Slicer slicer(scene, {});
+    const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
+    const SliceLayout& L = slicer.layout();
+    LayerStats sum;
+    for (int i = 0; i < layers; ++i) {
+      const int layer = static_cast<int>((i + 0.5) * L.num_layers / layers);
+      const LayerResult r = slicer.slice_layer(layer);
+      sum.seconds += r.stats.seconds;
+      sum.seconds_inverse += r.stats.seconds_inverse;
+      sum.seconds_material += r.stats.seconds_material;
+      sum.seconds_dither += r.stats.seconds_dither;
+      sum.pixels_inside += r.stats.pixels_inside;
+      sum.pixels_total += r.stats.pixels_total;
+      sum.global_calls += r.stats.global_calls;
+      sum.newton_evals += r.stats.newton_evals;
+    }
+    const double per_layer = sum.seconds / layers;
+    const double inside_per_layer = static_cast<double>(sum.pixels_inside) / layers;
+    const double ns = 1e9 / static_cast<double>(sum.pixels_inside);
+    fmt::print("\nTable 2 (full size; {} layers sampled evenly; one thread; full tracing; no file writing)\n\n", layers);
+    fmt::print("| bitmap | layers | voxels total, inside [x1e9] (projected) | time per layer [s] | total, 1 thread [h] (projected) | global solves [%] |\n|---|---|---|---|---|---|\n");
+    fmt::print("| {} x {} | {} | {:.2f}, {:.2f} | {:.3f} | {:.3f} | {:.4f} |\n", L.width_px, L.height_px, L.num_layers,
+               static_cast<double>(L.width_px) * L.height_px * L.num_layers / 1e9, inside_per_layer * L.num_layers / 1e9,
+               per_layer, per_layer * L.num_layers / 3600.0,
+               100.0 * static_cast<double>(sum.global_calls) / static_cast<double>(sum.pixels_inside));
+    fmt::print("\nns per inside voxel (one core): total {:.0f} = inverse {:.0f} + material {:.0f} + dither {:.0f}; "
+               "Newton evaluations per inside voxel {:.2f}; setup (outline meshes, solver) {:.2f} s\n",
+               sum.seconds * ns, sum.seconds_inverse * ns, sum.seconds_material * ns, sum.seconds_dither * ns,
+               static_cast<double>(sum.newton_evals) / static_cast<double>(sum.pixels_inside), setup);
+  }
+  return 0;
+}

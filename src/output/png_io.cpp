@@ -1,0 +1,382 @@
+#include "trivox/output/png_io.h"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <png.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <csetjmp>
+#include <cstdio>
+#include <string>
+#include <system_error>
+
+#include "trivox/error.h"
+
+namespace trivox {
+
+std::string_view to_string(PngFilter filter) noexcept {
+  switch (filter) {
+    case PngFilter::kNone:
+      return "none";
+    case PngFilter::kSub:
+      return "sub";
+    case PngFilter::kUp:
+      return "up";
+    case PngFilter::kAverage:
+      return "average";
+    case PngFilter::kPaeth:
+      return "paeth";
+    case PngFilter::kAdaptive:
+      return "adaptive";
+  }
+  return "unknown";
+}
+
+namespace {
+
+// libpng's bit mask for a filter choice; 0 for a value outside the enumeration.
+int png_filter_mask(PngFilter filter) noexcept {
+  switch (filter) {
+    case PngFilter::kNone:
+      return PNG_FILTER_NONE;
+    case PngFilter::kSub:
+      return PNG_FILTER_SUB;
+    case PngFilter::kUp:
+      return PNG_FILTER_UP;
+    case PngFilter::kAverage:
+      return PNG_FILTER_AVG;
+    case PngFilter::kPaeth:
+      return PNG_FILTER_PAETH;
+    case PngFilter::kAdaptive:
+      return PNG_ALL_FILTERS;
+  }
+  return 0;
+}
+
+std::string errno_text(int error_number) {
+  return std::error_code(error_number, std::generic_category()).message();
+}
+
+// ---- libpng calls ------------------------------------------------------------------------
+//
+// libpng reports errors by calling our error function, which must not return: it records
+// the message and longjmps back to the setjmp in the *_core function. Throwing a C++
+// exception through libpng's C frames would be undefined, and a longjmp that skips a
+// non-trivial destructor is too ([csetjmp.syn]); so the core functions and the callbacks
+// hold only plain data, and every C++ object (vectors, files, paths) lives in their callers,
+// which longjmp never crosses. The core functions report failure by returning false.
+
+struct PngMessage {
+  char text[256];
+};
+
+[[noreturn]] void on_png_error(png_structp png, png_const_charp message) {
+  auto* out = static_cast<PngMessage*>(png_get_error_ptr(png));
+  std::snprintf(out->text, sizeof out->text, "%s", message != nullptr ? message : "error");
+  png_longjmp(png, 1);
+}
+
+// The library never prints; libpng's default handler would write warnings to stderr.
+void on_png_warning(png_structp, png_const_charp) {}
+
+struct PngWriteJob {
+  std::FILE* file;
+  const unsigned char* pixels;
+  std::size_t row_stride;  // bytes from one row to the next
+  png_uint_32 width;
+  png_uint_32 height;
+  int bit_depth;
+  int color_type;
+  int zlib_level;
+  int filter_mask;
+  PngMessage error;
+};
+
+bool write_png_core(PngWriteJob* job) noexcept {
+  png_structp png =
+      png_create_write_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
+  if (png == nullptr) {
+    std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng writer");
+    return false;
+  }
+  png_infop info = png_create_info_struct(png);
+  if (info == nullptr) {
+    png_destroy_write_struct(&png, nullptr);
+    std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng info");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, job->file);
+  png_set_compression_level(png, job->zlib_level);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, job->filter_mask);
+  png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+  png_write_info(png, info);
+  for (png_uint_32 y = 0; y < job->height; ++y) {
+    png_write_row(png, job->pixels + static_cast<std::size_t>(y) * job->row_stride);
+  }
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+// Resizes from inside read_png_core: completes before any longjmp and never throws.
+bool resize_pixels(std::vector<std::uint8_t>* pixels, std::size_t size) noexcept {
+  try {
+    pixels->resize(size);
+    return true;
+  } catch (...) {
+    return false;
+  }
+}
+
+struct PngReadJob {
+  std::FILE* file;
+  std::vector<std::uint8_t>* rgba;  // owned by the caller
+  png_uint_32 width;
+  png_uint_32 height;
+  PngMessage error;
+};
+
+bool read_png_core(PngReadJob* job) noexcept {
+  png_structp png =
+      png_create_read_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
+  if (png == nullptr) {
+    std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng reader");
+    return false;
+  }
+  png_infop info = png_create_info_struct(png);
+  if (info == nullptr) {
+    png_destroy_read_struct(&png, nullptr, nullptr);
+    std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng info");
+    return false;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_init_io(png, job->file);
+  png_read_info(png, info);
+  job->width = png_get_image_width(png, info);
+  job->height = png_get_image_height(png, info);
+  const int bit_depth = png_get_bit_depth(png, info);
+  const int color_type = png_get_color_type(png, info);
+  const bool has_trns = png_get_valid(png, info, PNG_INFO_tRNS) != 0;
+
+  // Transformations to 8-bit RGBA, with no gamma handling so that values come back as stored.
+  if (color_type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(png);
+  if (color_type == PNG_COLOR_TYPE_GRAY && bit_depth < 8) png_set_expand_gray_1_2_4_to_8(png);
+  if (has_trns) png_set_tRNS_to_alpha(png);
+  if (bit_depth == 16) png_set_scale_16(png);
+  if ((color_type & PNG_COLOR_MASK_COLOR) == 0) png_set_gray_to_rgb(png);
+  if ((color_type & PNG_COLOR_MASK_ALPHA) == 0 && !has_trns) {
+    png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
+  }
+  const int passes = png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+
+  const std::size_t row_bytes = static_cast<std::size_t>(job->width) * 4;
+  if (png_get_rowbytes(png, info) != row_bytes) png_error(png, "cannot convert to 8-bit RGBA");
+  if (!resize_pixels(job->rgba, row_bytes * job->height)) png_error(png, "out of memory");
+  unsigned char* data = job->rgba->data();
+  for (int pass = 0; pass < passes; ++pass) {
+    for (png_uint_32 y = 0; y < job->height; ++y) {
+      png_read_row(png, data + static_cast<std::size_t>(y) * row_bytes, nullptr);
+    }
+  }
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
+// ---- atomic file replacement -------------------------------------------------------------
+
+// A temporary file beside `target`, created exclusively. commit() makes its bytes durable
+// (fflush + fsync) and renames it over the target; if commit() is never reached, the
+// destructor closes and removes it, so no partial file survives a failure. (A process killed
+// mid-write leaves its "<name>.tmp-<pid>-<n>", never a partial file under the target name.)
+class TempFile {
+ public:
+  explicit TempFile(const std::filesystem::path& target) : target_(target) {
+    if (target.filename().empty()) {
+      throw IoError(fmt::format("{}: not a file name", target.string()));
+    }
+    static std::atomic<unsigned> counter{0};
+    const std::string base = target.filename().string();
+    for (int attempt = 0; attempt < 100; ++attempt) {
+      path_ = target.parent_path() /
+              fmt::format("{}.tmp-{}-{}", base, static_cast<long>(::getpid()), counter++);
+      const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+      if (fd < 0) {
+        if (errno == EEXIST) continue;
+        throw IoError(fmt::format("{}: cannot create {}: {}", target.string(), path_.string(),
+                                  errno_text(errno)));
+      }
+      file_ = ::fdopen(fd, "wb");
+      if (file_ == nullptr) {
+        const int error_number = errno;
+        ::close(fd);
+        ::unlink(path_.c_str());
+        throw IoError(fmt::format("{}: cannot open {}: {}", target.string(), path_.string(),
+                                  errno_text(error_number)));
+      }
+      return;
+    }
+    throw IoError(fmt::format("{}: no free temporary name beside it", target.string()));
+  }
+
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+
+  ~TempFile() {
+    if (file_ != nullptr) std::fclose(file_);
+    if (!committed_) ::unlink(path_.c_str());
+  }
+
+  std::FILE* file() const noexcept { return file_; }
+
+  void commit() {
+    if (std::fflush(file_) != 0) fail("cannot write", errno);
+    if (::fsync(::fileno(file_)) != 0) fail("cannot sync", errno);
+    const int closed = std::fclose(file_);
+    file_ = nullptr;
+    if (closed != 0) fail("cannot close", errno);
+    if (std::rename(path_.c_str(), target_.c_str()) != 0) fail("cannot rename", errno);
+    committed_ = true;
+  }
+
+ private:
+  [[noreturn]] void fail(const char* what, int error_number) const {
+    throw IoError(fmt::format("{}: {} {}: {}", target_.string(), what, path_.string(),
+                              errno_text(error_number)));
+  }
+
+  std::filesystem::path target_;
+  std::filesystem::path path_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+// libpng refuses images wider or taller than this unless told otherwise (png_set_user_limits);
+// a slice at 300 dpi that large would be 85 m long.
+constexpr int kMaxPngSidePx = 1000000;
+
+void check_size(const std::filesystem::path& path, int width_px, int height_px,
+                std::size_t bytes_per_pixel, std::size_t given) {
+  if (width_px < 1 || height_px < 1 || width_px > kMaxPngSidePx || height_px > kMaxPngSidePx) {
+    throw Error(fmt::format("{}: PNG size {} x {} px is not within 1..{} per side", path.string(),
+                            width_px, height_px, kMaxPngSidePx));
+  }
+  const std::size_t expected =
+      static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px) * bytes_per_pixel;
+  if (given != expected) {
+    throw Error(fmt::format("{}: {} x {} px needs {} bytes of pixels, got {}", path.string(),
+                            width_px, height_px, expected, given));
+  }
+}
+
+void write_png(const std::filesystem::path& path, const PngWriteParams& params, PngWriteJob job) {
+  TempFile temp(path);
+  job.file = temp.file();
+  job.zlib_level = params.zlib_level;
+  job.filter_mask = png_filter_mask(params.filter);
+  job.error.text[0] = '\0';
+  errno = 0;
+  if (!write_png_core(&job)) {
+    // libpng's own text for a failed fwrite is just "Write Error"; errno says why.
+    const int error_number = errno;
+    throw IoError(fmt::format("{}: cannot write PNG: {}{}", path.string(), job.error.text,
+                              error_number != 0 ? " (" + errno_text(error_number) + ")" : ""));
+  }
+  temp.commit();
+}
+
+PngWriteJob make_job(const unsigned char* pixels, std::size_t row_stride, int width_px,
+                     int height_px, int bit_depth, int color_type) {
+  PngWriteJob job{};
+  job.pixels = pixels;
+  job.row_stride = row_stride;
+  job.width = static_cast<png_uint_32>(width_px);
+  job.height = static_cast<png_uint_32>(height_px);
+  job.bit_depth = bit_depth;
+  job.color_type = color_type;
+  return job;
+}
+
+}  // namespace
+
+void PngWriteParams::validate() const {
+  if (zlib_level < 0 || zlib_level > 9) {
+    throw Error(fmt::format("png params: zlib_level = {} is outside [0, 9]", zlib_level));
+  }
+  if (png_filter_mask(filter) == 0) {
+    throw Error(
+        fmt::format("png params: filter = {} is not a known PNG filter", static_cast<int>(filter)));
+  }
+}
+
+void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px,
+                    std::span<const std::uint8_t> rgba, const PngWriteParams& params) {
+  params.validate();
+  check_size(path, width_px, height_px, 4, rgba.size());
+  write_png(path, params,
+            make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
+                     PNG_COLOR_TYPE_RGBA));
+}
+
+void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
+                    const PngWriteParams& params) {
+  write_png_rgba(path, image.width_px, image.height_px, image.rgba, params);
+}
+
+void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,
+                     std::span<const std::uint8_t> gray, const PngWriteParams& params) {
+  params.validate();
+  check_size(path, width_px, height_px, 1, gray.size());
+  write_png(path, params,
+            make_job(gray.data(), static_cast<std::size_t>(width_px), width_px, height_px, 8,
+                     PNG_COLOR_TYPE_GRAY));
+}
+
+void write_png_gray1(const std::filesystem::path& path, int width_px, int height_px,
+                     std::span<const std::uint8_t> values, const PngWriteParams& params) {
+  params.validate();
+  check_size(path, width_px, height_px, 1, values.size());
+  // PNG packs 1-bit pixels eight to a byte, leftmost pixel in the most significant bit.
+  const std::size_t width = static_cast<std::size_t>(width_px);
+  const std::size_t stride = (width + 7) / 8;
+  std::vector<std::uint8_t> packed(stride * static_cast<std::size_t>(height_px), 0);
+  for (std::size_t y = 0; y < static_cast<std::size_t>(height_px); ++y) {
+    const std::uint8_t* in = values.data() + y * width;
+    std::uint8_t* out = packed.data() + y * stride;
+    for (std::size_t x = 0; x < width; ++x) {
+      if (in[x] != 0) out[x / 8] = static_cast<std::uint8_t>(out[x / 8] | (0x80u >> (x % 8)));
+    }
+  }
+  write_png(path, params,
+            make_job(packed.data(), stride, width_px, height_px, 1, PNG_COLOR_TYPE_GRAY));
+}
+
+RgbaImage read_png_rgba(const std::filesystem::path& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (file == nullptr) {
+    throw IoError(fmt::format("{}: cannot open: {}", path.string(), errno_text(errno)));
+  }
+  RgbaImage image;
+  PngReadJob job{};
+  job.file = file;
+  job.rgba = &image.rgba;
+  const bool ok = read_png_core(&job);
+  std::fclose(file);
+  if (!ok) throw IoError(fmt::format("{}: not a readable PNG: {}", path.string(), job.error.text));
+  image.width_px = static_cast<int>(job.width);
+  image.height_px = static_cast<int>(job.height);
+  return image;
+}
+
+}  // namespace trivox

@@ -1,0 +1,84 @@
+#include "trivox/raster/material_grid.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+
+namespace trivox {
+
+namespace detail {
+
+void check_raster_size(const char* what, int width_px, int height_px, int per_pixel) {
+  if (width_px < 0 || height_px < 0) {
+    throw Error(fmt::format("{}: size {} x {} px is negative", what, width_px, height_px));
+  }
+  // 2^40 values is far beyond any printer tray (a J850 tray at 600 x 300 dpi is about
+  // 12e6 pixels) and keeps every index product well inside 64 bits.
+  constexpr std::uint64_t kMaxValues = std::uint64_t{1} << 40;
+  const std::uint64_t values = static_cast<std::uint64_t>(width_px) *
+                               static_cast<std::uint64_t>(height_px) *
+                               static_cast<std::uint64_t>(per_pixel);
+  if (values > kMaxValues) {
+    throw Error(fmt::format("{}: {} x {} px with {} values per pixel is too large", what, width_px,
+                            height_px, per_pixel));
+  }
+}
+
+}  // namespace detail
+
+MaterialGrid::MaterialGrid(int width_px, int height_px, int num_materials)
+    : width_px_(width_px), height_px_(height_px), num_materials_(num_materials) {
+  if (num_materials < 1 || num_materials > kMaxMaterials) {
+    throw Error(fmt::format("material grid: num_materials = {} is outside [1, {}]", num_materials,
+                            kMaxMaterials));
+  }
+  detail::check_raster_size("material grid", width_px, height_px, num_materials);
+  values_.assign(static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px) *
+                     static_cast<std::size_t>(num_materials),
+                 0.0f);
+}
+
+namespace {
+
+// The message for a pixel that check_fractions rejected (kept out of the hot loop).
+[[noreturn]] void throw_bad_pixel(std::span<const float> f, int x, int y, float tolerance,
+                                  float sum) {
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    if (!(f[k] >= -tolerance && f[k] <= 1.0f + tolerance)) {
+      throw Error(fmt::format(
+          "material grid: pixel ({}, {}) material {}: fraction {} is not finite and in [0, 1] "
+          "(tolerance {})",
+          x, y, k, f[k], tolerance));
+    }
+  }
+  throw Error(
+      fmt::format("material grid: pixel ({}, {}): fractions sum to {}, more than 1 (tolerance {})",
+                  x, y, sum, tolerance));
+}
+
+}  // namespace
+
+void MaterialGrid::check_fractions(float tolerance) const {
+  if (!std::isfinite(tolerance) || tolerance < 0.0f) {
+    throw Error(
+        fmt::format("material grid: fraction tolerance {} is not finite and >= 0", tolerance));
+  }
+  const float lo = -tolerance;
+  const float hi = 1.0f + tolerance;
+  const float* f = values_.data();
+  for (int y = 0; y < height_px_; ++y) {
+    for (int x = 0; x < width_px_; ++x, f += m()) {
+      // One pass without early exits; NaN and infinities fail the range test.
+      bool in_range = true;
+      float sum = 0.0f;
+      for (std::size_t k = 0; k < m(); ++k) {
+        in_range &= f[k] >= lo && f[k] <= hi;
+        sum += f[k];
+      }
+      if (!in_range || !(sum <= hi)) throw_bad_pixel({f, m()}, x, y, tolerance, sum);
+    }
+  }
+}
+
+}  // namespace trivox

@@ -1,0 +1,420 @@
+#include "trivox/raster/dither.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "raster/dither_kernels.h"
+#include "trivox/error.h"
+
+namespace trivox {
+namespace {
+
+// ---- reference implementation ------------------------------------------------------------
+//
+// The algorithm of dither.h written the slow, obvious way: one error vector per pixel of the
+// whole image (64-bit, so overflow is out of the question), receivers gathered into a
+// vector per pixel. It shares with the fast version only the tap table and the fraction
+// rounding (src/raster/dither_kernels.h).
+struct ReferenceResult {
+  LabelImage labels;
+  std::int64_t max_abs_error = 0;  // largest |error| component emitted, fixed-point units
+};
+
+ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& inside,
+                                 bool serpentine) {
+  const int w = grid.width_px();
+  const int h = grid.height_px();
+  const int m = grid.num_materials();
+  const int c_count = m + 1;
+  std::vector<std::int64_t> error(static_cast<std::size_t>(w * h * c_count), 0);
+  auto err = [&](int x, int y, int c) -> std::int64_t& {
+    return error[static_cast<std::size_t>((y * w + x) * c_count + c)];
+  };
+  const std::span<const detail::DiffusionTap> taps =
+      detail::diffusion_taps(DiffusionKernel::kFloydSteinberg);
+
+  ReferenceResult result{LabelImage(w, h), 0};
+  for (int y = 0; y < h; ++y) {
+    const bool reverse = serpentine && y % 2 == 1;
+    for (int i = 0; i < w; ++i) {
+      const int x = reverse ? w - 1 - i : i;
+      if (!inside.inside(x, y)) continue;
+
+      std::vector<std::int64_t> desired(static_cast<std::size_t>(c_count));
+      std::int64_t material_total = 0;
+      for (int k = 0; k < m; ++k) {
+        const std::int64_t q = detail::fraction_to_fixed(grid.at(x, y, k));
+        desired[static_cast<std::size_t>(k + 1)] = err(x, y, k + 1) + q;
+        material_total += q;
+      }
+      desired[0] = err(x, y, 0) + kDitherFixedOne - material_total;
+
+      int best = 0;
+      for (int c = 1; c < c_count; ++c) {
+        if (desired[static_cast<std::size_t>(c)] > desired[static_cast<std::size_t>(best)]) {
+          best = c;
+        }
+      }
+      result.labels.at(x, y) = static_cast<std::uint8_t>(best);
+      desired[static_cast<std::size_t>(best)] -= kDitherFixedOne;
+      for (std::int64_t e : desired)
+        result.max_abs_error = std::max(result.max_abs_error, std::abs(e));
+
+      struct Receiver {
+        int x, y;
+        std::int64_t weight;
+      };
+      std::vector<Receiver> receivers;
+      for (const detail::DiffusionTap& tap : taps) {
+        const int nx = x + (reverse ? -tap.dx : tap.dx);
+        const int ny = y + tap.dy;
+        if (nx >= 0 && nx < w && ny < h && inside.inside(nx, ny)) {
+          receivers.push_back({nx, ny, tap.weight});
+        }
+      }
+      if (receivers.empty()) continue;
+      std::int64_t weight_sum = 0;
+      for (const Receiver& r : receivers) weight_sum += r.weight;
+      for (int c = 0; c < c_count; ++c) {
+        const std::int64_t e = desired[static_cast<std::size_t>(c)];
+        std::int64_t given = 0;
+        for (std::size_t j = 0; j + 1 < receivers.size(); ++j) {
+          const std::int64_t share = e * receivers[j].weight / weight_sum;
+          err(receivers[j].x, receivers[j].y, c) += share;
+          given += share;
+        }
+        err(receivers.back().x, receivers.back().y, c) += e - given;
+      }
+    }
+  }
+  return result;
+}
+
+// ---- fixtures ----------------------------------------------------------------------------
+
+// Portable uniform [0, 1): std::mt19937's sequence is specified by the standard, the real
+// distributions are not.
+float uniform(std::mt19937& rng) { return static_cast<float>(rng() >> 8) * 0x1p-24f; }
+int uniform_int(std::mt19937& rng, int lo, int hi) {
+  return lo + static_cast<int>(rng() % static_cast<std::uint32_t>(hi - lo + 1));
+}
+
+// Random fractions: smooth fields, noise, pure pixels and exact ties, all summing to <= 1.
+MaterialGrid random_grid(std::mt19937& rng, int w, int h, int m) {
+  MaterialGrid grid(w, h, m);
+  const int style = uniform_int(rng, 0, 2);
+  std::vector<float> phase(static_cast<std::size_t>(m));
+  for (float& p : phase) p = 6.28f * uniform(rng);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      std::vector<float> raw(static_cast<std::size_t>(m));
+      float total = 1.0f;
+      if (style == 0) {  // smooth
+        for (int k = 0; k < m; ++k) {
+          raw[static_cast<std::size_t>(k)] =
+              1.0f + std::sin(0.11f * static_cast<float>(x) +
+                              0.07f * static_cast<float>(y) * static_cast<float>(k + 1) +
+                              phase[static_cast<std::size_t>(k)]);
+        }
+        total = 0.5f + 0.5f * std::cos(0.05f * static_cast<float>(x + y));
+      } else if (style == 1) {  // noise
+        for (float& r : raw) r = uniform(rng);
+        total = uniform(rng);
+      } else {  // pure pixels, void and ties
+        const int kind = uniform_int(rng, 0, 3);
+        if (kind == 0) raw[static_cast<std::size_t>(uniform_int(rng, 0, m - 1))] = 1.0f;
+        if (kind == 1) total = 0.0f;
+        if (kind >= 2) {
+          for (float& r : raw) r = 1.0f;
+          total = kind == 2 ? 1.0f : 0.5f;
+        }
+        if (kind == 1) raw[0] = 1.0f;
+      }
+      float sum = 0.0f;
+      for (float r : raw) sum += r;
+      for (int k = 0; k < m; ++k) {
+        grid.at(x, y, k) = sum > 0.0f ? raw[static_cast<std::size_t>(k)] / sum * total : 0.0f;
+      }
+    }
+  }
+  return grid;
+}
+
+InsideMask random_mask(std::mt19937& rng, int w, int h) {
+  InsideMask mask(w, h, 1);
+  const int style = uniform_int(rng, 0, 2);
+  if (style == 0) return mask;  // all inside
+  const float cx = uniform(rng) * static_cast<float>(w);
+  const float cy = uniform(rng) * static_cast<float>(h);
+  const float r = (0.2f + 0.6f * uniform(rng)) * static_cast<float>(std::max(w, h));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const float dx = static_cast<float>(x) - cx;
+      const float dy = static_cast<float>(y) - cy;
+      bool in = dx * dx + dy * dy < r * r;
+      if (style == 2 && uniform(rng) < 0.15f) in = !in;  // speckle: isolated pixels, holes
+      mask.at(x, y) = in ? 1 : 0;
+    }
+  }
+  return mask;
+}
+
+std::uint64_t fnv1a(std::span<const std::uint8_t> bytes) {
+  std::uint64_t hash = 14695981039346656037ull;
+  for (std::uint8_t b : bytes) {
+    hash ^= b;
+    hash *= 1099511628211ull;
+  }
+  return hash;
+}
+
+// Share of pixels with `label` in a window.
+double share(const LabelImage& labels, int x0, int y0, int w, int h, std::uint8_t label) {
+  int count = 0;
+  for (int y = y0; y < y0 + h; ++y) {
+    for (int x = x0; x < x0 + w; ++x) count += labels.at(x, y) == label ? 1 : 0;
+  }
+  return static_cast<double>(count) / static_cast<double>(w * h);
+}
+
+// ---- tests -------------------------------------------------------------------------------
+
+TEST(DitherTest, MatchesReferenceBitForBit) {
+  std::mt19937 rng(20240611u);
+  std::int64_t worst_error = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const int w = uniform_int(rng, 1, 90);
+    const int h = uniform_int(rng, 1, 50);
+    const int m = trial % 50 == 7 ? kMaxMaterials : uniform_int(rng, 1, 8);
+    const MaterialGrid grid = random_grid(rng, w, h, m);
+    const InsideMask mask = random_mask(rng, w, h);
+    DitherParams params;
+    params.serpentine = trial % 2 == 0;
+    const LabelImage fast = dither(grid, mask, params);
+    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine);
+    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m;
+    worst_error = std::max(worst_error, ref.max_abs_error);
+  }
+  // The fast version keeps errors in int32 (32768 units of kDitherFixedOne): far away.
+  EXPECT_LT(worst_error, 8 * std::int64_t{kDitherFixedOne});
+}
+
+TEST(DitherTest, LabelsAreMaterialsOrVoid) {
+  std::mt19937 rng(7u);
+  for (int m : {1, 2, 3, 6, 17}) {
+    const MaterialGrid grid = random_grid(rng, 64, 48, m);
+    const InsideMask mask = random_mask(rng, 64, 48);
+    const LabelImage labels = dither(grid, mask);
+    for (std::uint8_t label : labels.values()) ASSERT_LE(label, m);
+  }
+}
+
+TEST(DitherTest, ConstantFractionGivesItsShare) {
+  MaterialGrid grid(256, 256, 1);
+  for (int y = 0; y < 256; ++y) {
+    for (int x = 0; x < 256; ++x) grid.at(x, y, 0) = 0.3f;
+  }
+  const LabelImage labels = dither(grid, InsideMask(256, 256, 1));
+  EXPECT_NEAR(share(labels, 0, 0, 256, 256, 1), 0.3, 0.01);
+  EXPECT_NEAR(share(labels, 0, 0, 256, 256, LabelImage::kVoid), 0.7, 0.01);
+
+  MaterialGrid three(256, 256, 3);
+  for (int y = 0; y < 256; ++y) {
+    for (int x = 0; x < 256; ++x) {
+      three.at(x, y, 0) = 0.3f;
+      three.at(x, y, 1) = 0.2f;
+      three.at(x, y, 2) = 0.1f;
+    }
+  }
+  const LabelImage mixed = dither(three, InsideMask(256, 256, 1));
+  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 1), 0.3, 0.01);
+  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 2), 0.2, 0.01);
+  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 3), 0.1, 0.01);
+  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, LabelImage::kVoid), 0.4, 0.01);
+}
+
+// The slicer's requirement: a two-material linear gradient across x keeps every 64 x 64
+// window within 1% (absolute) of the window's mean analytic fraction.
+TEST(DitherTest, GradientMatchesEveryWindow) {
+  constexpr int kSize = 512;
+  constexpr int kWindow = 64;
+  MaterialGrid grid(kSize, kSize, 2);
+  auto t_of = [](int x) { return (static_cast<double>(x) + 0.5) / kSize; };
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const auto t = static_cast<float>(t_of(x));
+      grid.at(x, y, 0) = t;
+      grid.at(x, y, 1) = 1.0f - t;
+    }
+  }
+  for (bool serpentine : {true, false}) {
+    DitherParams params;
+    params.serpentine = serpentine;
+    const LabelImage labels = dither(grid, InsideMask(kSize, kSize, 1), params);
+    double worst = 0.0;
+    // Every window position on a 16-pixel lattice, which includes the 64 disjoint windows.
+    for (int y0 = 0; y0 + kWindow <= kSize; y0 += 16) {
+      for (int x0 = 0; x0 + kWindow <= kSize; x0 += 16) {
+        double mean_t = 0.0;
+        for (int x = x0; x < x0 + kWindow; ++x) mean_t += t_of(x) / kWindow;
+        const double a = share(labels, x0, y0, kWindow, kWindow, 1);
+        const double b = share(labels, x0, y0, kWindow, kWindow, 2);
+        EXPECT_NEAR(a, mean_t, 0.01) << "window at " << x0 << ", " << y0;
+        EXPECT_NEAR(b, 1.0 - mean_t, 0.01) << "window at " << x0 << ", " << y0;
+        worst = std::max({worst, std::abs(a - mean_t), std::abs(b - (1.0 - mean_t))});
+      }
+    }
+    RecordProperty(serpentine ? "worst_window_error_serpentine" : "worst_window_error_raster",
+                   std::to_string(worst));
+  }
+}
+
+TEST(DitherTest, MaskedPixelsStayBackground) {
+  std::mt19937 rng(99u);
+  MaterialGrid grid(80, 60, 2);
+  for (int y = 0; y < 60; ++y) {
+    for (int x = 0; x < 80; ++x) grid.at(x, y, 0) = 1.0f;  // material everywhere, even outside
+  }
+  const InsideMask mask = random_mask(rng, 80, 60);
+  const LabelImage labels = dither(grid, mask);
+  for (int y = 0; y < 60; ++y) {
+    for (int x = 0; x < 80; ++x) {
+      EXPECT_EQ(labels.at(x, y), mask.inside(x, y) ? 1 : LabelImage::kVoid) << x << ", " << y;
+    }
+  }
+}
+
+// Error neither enters nor leaves through masked pixels: a part's labels do not depend on
+// anything beyond a one-pixel gap (the Floyd-Steinberg reach).
+TEST(DitherTest, ErrorDoesNotCrossTheMask) {
+  constexpr int kW = 61, kH = 40;
+  InsideMask mask(kW, kH, 1);
+  for (int y = 0; y < kH; ++y) mask.at(30, y) = 0;  // left part x < 30, right part x > 30
+  MaterialGrid grid(kW, kH, 2);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < 30; ++x) grid.at(x, y, 0) = 0.37f;
+  }
+  MaterialGrid other = grid;
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 31; x < kW; ++x) {
+      grid.at(x, y, 1) = 0.9f;
+      other.at(x, y, 0) = 0.1f;
+      other.at(x, y, 1) = 0.2f;
+    }
+    other.at(30, y, 0) = 1.0f;  // the masked gap's fractions are ignored too
+  }
+  const LabelImage a = dither(grid, mask);
+  const LabelImage b = dither(other, mask);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < 30; ++x) ASSERT_EQ(a.at(x, y), b.at(x, y)) << x << ", " << y;
+  }
+}
+
+// A one-pixel wall keeps its material share: its error is not lost to the air beside it.
+TEST(DitherTest, ThinWallKeepsItsShare) {
+  constexpr int kH = 1000;
+  MaterialGrid grid(5, kH, 1);
+  InsideMask mask(5, kH, 0);
+  for (int y = 0; y < kH; ++y) {
+    grid.at(2, y, 0) = 0.3f;
+    mask.at(2, y) = 1;
+  }
+  const LabelImage labels = dither(grid, mask);
+  EXPECT_NEAR(share(labels, 2, 0, 1, kH, 1), 0.3, 0.002);
+}
+
+TEST(DitherTest, TiesGoToTheLowestLabel) {
+  MaterialGrid half_void(1, 1, 1);
+  half_void.at(0, 0, 0) = 0.5f;
+  EXPECT_EQ(dither(half_void, InsideMask(1, 1, 1)).at(0, 0), LabelImage::kVoid);
+
+  MaterialGrid two(1, 1, 3);
+  two.at(0, 0, 1) = 0.5f;
+  two.at(0, 0, 2) = 0.5f;
+  EXPECT_EQ(dither(two, InsideMask(1, 1, 1)).at(0, 0), LabelImage::label_of_material(1));
+}
+
+// A fixed input must give these exact labels on every machine and compiler (fixed-point
+// arithmetic); a change here is a change of output format.
+TEST(DitherTest, GoldenHash) {
+  // Fractions from single integer divisions only, so the input is exact everywhere too.
+  constexpr int kW = 97, kH = 61;
+  MaterialGrid grid(kW, kH, 3);
+  InsideMask mask(kW, kH, 0);
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) {
+      grid.at(x, y, 0) = static_cast<float>(6 * x) / static_cast<float>(10 * (kW - 1));
+      grid.at(x, y, 1) = static_cast<float>(3 * y) / static_cast<float>(10 * (kH - 1));
+      grid.at(x, y, 2) = static_cast<float>((7 * x + 13 * y) % 17) / 170.0f;
+      const int dx = x - 48, dy = y - 30;
+      mask.at(x, y) = dx * dx + dy * dy < 900 ? 1 : 0;
+    }
+  }
+  EXPECT_EQ(fnv1a(dither(grid, mask).values()), 7913593261764580648ull);
+  DitherParams raster;
+  raster.serpentine = false;
+  EXPECT_EQ(fnv1a(dither(grid, mask, raster).values()), 1078253651600671865ull);
+}
+
+TEST(DitherTest, ReusesAndResizesTheOutput) {
+  MaterialGrid grid(10, 4, 1);
+  LabelImage labels(3, 3, 7);
+  dither(grid, InsideMask(10, 4, 1), DitherParams{}, labels);
+  EXPECT_EQ(labels.width_px(), 10);
+  EXPECT_EQ(labels.height_px(), 4);
+  for (std::uint8_t label : labels.values()) EXPECT_EQ(label, LabelImage::kVoid);
+
+  MaterialGrid empty(0, 0, 2);
+  EXPECT_TRUE(dither(empty, InsideMask(0, 0)).values().empty());
+}
+
+TEST(DitherTest, RejectsBadInput) {
+  MaterialGrid grid(4, 3, 2);
+  const InsideMask mask(4, 3, 1);
+  EXPECT_THROW(dither(grid, InsideMask(3, 4, 1)), Error);
+
+  DitherParams bad_tolerance;
+  bad_tolerance.fraction_tolerance = -1.0f;
+  EXPECT_THROW(dither(grid, mask, bad_tolerance), Error);
+  bad_tolerance.fraction_tolerance = NAN;
+  EXPECT_THROW(bad_tolerance.validate(), Error);
+  DitherParams bad_kernel;
+  bad_kernel.kernel = static_cast<DiffusionKernel>(99);
+  EXPECT_THROW(bad_kernel.validate(), Error);
+
+  auto message_for = [&](const MaterialGrid& g) -> std::string {
+    try {
+      dither(g, mask);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  };
+  MaterialGrid nan_grid = grid;
+  nan_grid.at(2, 1, 1) = NAN;
+  EXPECT_NE(message_for(nan_grid).find("pixel (2, 1) material 1"), std::string::npos);
+  MaterialGrid above_one = grid;
+  above_one.at(3, 2, 0) = 1.01f;
+  EXPECT_NE(message_for(above_one).find("pixel (3, 2)"), std::string::npos);
+  MaterialGrid sum_above_one = grid;
+  sum_above_one.at(0, 1, 0) = 0.6f;
+  sum_above_one.at(0, 1, 1) = 0.6f;
+  EXPECT_NE(message_for(sum_above_one).find("sum"), std::string::npos);
+  MaterialGrid rounding = grid;  // within the default tolerance: accepted
+  rounding.at(1, 1, 0) = 0.70000005f;
+  rounding.at(1, 1, 1) = 0.30000001f;
+  EXPECT_NO_THROW(dither(rounding, mask));
+
+  EXPECT_THROW(MaterialGrid(4, 4, 0), Error);
+  EXPECT_THROW(MaterialGrid(4, 4, kMaxMaterials + 1), Error);
+  EXPECT_THROW(MaterialGrid(-1, 4, 1), Error);
+  EXPECT_THROW(InsideMask(4, -4), Error);
+}
+
+}  // namespace
+}  // namespace trivox
