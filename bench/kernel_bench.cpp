@@ -75,6 +75,35 @@ void BM_WarmInversion(benchmark::State& state) {
 }
 BENCHMARK(BM_WarmInversion);
 
+// The same row with the slicer's fast path: prediction from the neighbour's Jacobian, one
+// Newton step, a value-only check.
+void BM_WarmInversionPredicted(benchmark::State& state) {
+  const trivox::Volume& v = column();
+  const trivox::GlobalSolver solver(v);
+  const Vec3 start = v.evaluate({0.2, 0.5, 0.5});
+  const int n = 500;
+  std::vector<Vec3> row(n);
+  for (int i = 0; i < n; ++i) row[static_cast<std::size_t>(i)] = start + Vec3{0.04 * i, 0, 0};
+  trivox::NeighbourSolution first{solver.solve(row[0]).preimages.at(0).uvw, row[0], {}};
+  Vec3 p;
+  v.evaluate_jacobian(first.uvw, p, first.jacobian);
+  std::int64_t points = 0, evaluations = 0;
+  for (auto _ : state) {
+    trivox::NeighbourSolution seed = first;
+    for (const Vec3& x : row) {
+      trivox::Mat3 J;
+      const trivox::InverseResult r = trivox::invert_from_neighbour(v, x, seed, {}, &J);
+      seed = {r.uvw, x, J};
+      evaluations += r.iterations;
+      benchmark::DoNotOptimize(r);
+    }
+    points += n;
+  }
+  state.SetItemsProcessed(points);
+  state.counters["evals_per_point"] = static_cast<double>(evaluations) / static_cast<double>(points);
+}
+BENCHMARK(BM_WarmInversionPredicted);
+
 void BM_GlobalSolve(benchmark::State& state) {
   const trivox::Volume& v = column();
   const trivox::GlobalSolver solver(v);

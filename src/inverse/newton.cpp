@@ -121,4 +121,12 @@ InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParam
   return detail::newton_in_box(volume, x, hint, volume.domain(), params);
 }
 
+InverseResult invert_from_neighbour(const Volume& volume, Vec3 x, const NeighbourSolution& n,
+                                    const InverseParams& params, Mat3* jacobian) {
+  Mat3 j;
+  const InverseResult r = detail::invert_traced(volume, x, n.uvw, n.x, n.jacobian, params, j);
+  if (jacobian) *jacobian = j;
+  return r;
+}
+
 }  // namespace trivox

@@ -15,6 +15,13 @@ KnotVector::KnotVector(int order, std::vector<double> knots) : order_(order), kn
 }
 
 void KnotVector::prepare_span_guess() noexcept {
+  const std::size_t n = knots_.size();
+  inverse_differences_.assign(static_cast<std::size_t>(std::max(order_ - 1, 0)) * n, 0.0);
+  for (int len = 1; len < order_; ++len)
+    for (std::size_t a = 0; a + static_cast<std::size_t>(len) < n; ++a) {
+      const double d = knots_[a + static_cast<std::size_t>(len)] - knots_[a];
+      inverse_differences_[static_cast<std::size_t>(len - 1) * n + a] = d > 0 ? 1.0 / d : 0.0;
+    }
   const double a = lo(), b = hi();
   const int pieces = num_basis() - order_ + 1;  // spans between t_{k-1} and t_{nb}
   const double width = (b - a) / pieces;

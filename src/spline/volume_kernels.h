@@ -33,9 +33,11 @@ inline void basis_fixed(const KnotVector& kv, int span, double t, double* N, dou
   for (int j = 1; j <= top; ++j) {
     left[j] = t - U[span + 1 - j];
     right[j] = U[span + j] - t;
+    // right[r+1] + left[j-r] = U[span+r+1] - U[span+1-j+r], a knot difference of length j.
+    const double* inv = kv.inverse_differences(j) + (span + 1 - j);
     double saved = 0.0;
     for (int r = 0; r < j; ++r) {
-      const double temp = N[r] / (right[r + 1] + left[j - r]);
+      const double temp = N[r] * inv[r];
       N[r] = saved + right[r + 1] * temp;
       saved = left[j - r] * temp;
     }
@@ -44,10 +46,11 @@ inline void basis_fixed(const KnotVector& kv, int span, double t, double* N, dou
   if constexpr (kDerivs) {
     double lower[K];
     for (int q = 0; q < p; ++q) lower[q] = N[q];
+    const double* inv = kv.inverse_differences(p);
     for (int r = 0; r <= p; ++r) {
       const int i = span - p + r;
-      const double a = r > 0 ? lower[r - 1] / (U[i + p] - U[i]) : 0.0;
-      const double b = r < p ? lower[r] / (U[i + p + 1] - U[i + 1]) : 0.0;
+      const double a = r > 0 ? lower[r - 1] * inv[i] : 0.0;
+      const double b = r < p ? lower[r] * inv[i + 1] : 0.0;
       N[r] = (t - U[i]) * a + (U[i + p + 1] - t) * b;
       dN[r] = p * (a - b);
     }

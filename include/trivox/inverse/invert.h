@@ -43,6 +43,22 @@ struct InverseResult {
 
 InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params = {});
 
+// A solved point near x (for example the neighbouring pixel): its parameters, its position
+// and V's Jacobian there.
+struct NeighbourSolution {
+  Vec3 uvw;
+  Vec3 x;
+  Mat3 jacobian;
+};
+
+// The tracing fast path: predicts u = n.uvw + J^-1 (x - n.x), takes one Newton step from the
+// prediction and verifies the residual with a value-only evaluation (so most points cost one
+// evaluation with Jacobian and one without); falls back to invert() from there otherwise.
+// A converged result always meets the residual tolerance. When `jacobian` is given it
+// receives V's Jacobian near the solution, ready to seed the next point.
+InverseResult invert_from_neighbour(const Volume& volume, Vec3 x, const NeighbourSolution& n,
+                                    const InverseParams& params = {}, Mat3* jacobian = nullptr);
+
 struct GlobalSolveParams {
   InverseParams newton;
   // Boxes examined before giving up with kIncomplete (guards against degenerate volumes

@@ -45,6 +45,12 @@ class KnotVector {
     return periodic_ && basis_index >= num_ctrl() ? basis_index - num_ctrl() : basis_index;
   }
   std::span<const double> knots() const noexcept { return knots_; }
+  // 1 / (t_{a+len} - t_a), or 0 where the knots coincide, for len = 1..order-1: the
+  // denominators of the basis recurrences, so that evaluation multiplies instead of divides.
+  // Row `len` starts at index (len - 1) * knots().size().
+  const double* inverse_differences(int len) const noexcept {
+    return inverse_differences_.data() + static_cast<std::size_t>(len - 1) * knots_.size();
+  }
   double operator[](int i) const noexcept { return knots_[static_cast<std::size_t>(i)]; }
   double lo() const noexcept { return knots_[static_cast<std::size_t>(order_ - 1)]; }
   double hi() const noexcept { return knots_[static_cast<std::size_t>(num_basis())]; }
@@ -74,6 +80,7 @@ class KnotVector {
   // common uniform case): find_span then guesses the span in O(1) and corrects it exactly.
   // 0 otherwise (binary search).
   double uniform_inverse_width_ = 0.0;
+  std::vector<double> inverse_differences_;
   int order_ = 1;
   bool periodic_ = false;
   std::vector<double> knots_;
