@@ -14,15 +14,8 @@ struct Slicer::CellData {
   const Cell* cell;
   detail::BoundaryMesh mesh;
   GlobalSolver solver;
-  MaterialSite site;
 
-  CellData(const Cell& c, double tolerance_mm, const Scene& scene)
-      : cell(&c), mesh(c.volume, tolerance_mm), solver(c.volume) {
-    site.source = scene.source;
-    site.pointer = c.pointer + "/material";
-    site.cell = c.name;
-    for (const MaterialDef& m : scene.materials) site.material_names.push_back(m.name);
-  }
+  CellData(const Cell& c, double tolerance_mm) : cell(&c), mesh(c.volume, tolerance_mm), solver(c.volume) {}
 };
 
 Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(std::move(params)) {
@@ -32,7 +25,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
       0.25 * std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
   Box3 bounds;
   for (const Cell& c : scene.cells) {
-    cells_.push_back(std::make_unique<CellData>(c, outline_tolerance_mm_, scene));
+    cells_.push_back(std::make_unique<CellData>(c, outline_tolerance_mm_));
     bounds.expand(cells_.back()->mesh.bounds());
   }
   // The meshes lie within the tolerance of the true boundary.
@@ -85,8 +78,9 @@ LayerResult Slicer::slice_layer(int layer) const {
       const std::size_t n = row_out.cols.size();
       if (n == 0) continue;
       fractions.assign(n * static_cast<std::size_t>(m), 0.0f);
+      // Scene cells carry their material already wrapped in the scene's fraction policy
+      // (CheckedMaterial), and dithering validates what reaches it.
       cd->cell->material->evaluate_row(row_out.uvw, row_out.xyz, fractions);
-      apply_fraction_policy(scene_.fraction_policy, cd->site, m, row_out.uvw, fractions);
       for (std::size_t k = 0; k < n; ++k) {
         const int col = row_out.cols[k];
         inside.at(col, r) = 1;

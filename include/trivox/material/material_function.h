@@ -1,0 +1,124 @@
+// Material functions M(u,v,w): what a cell of an FGM object is made of at each parameter.
+//
+// A material function returns, per sample, one fraction per material of the scene, indexed
+// 0..m-1 in the scene's material list. Void (no material) is implicit: 1 - sum. After the
+// scene's fraction policy (see CheckedMaterial below) every fraction is >= 0 and the sum of
+// one sample's fractions is <= 1 (up to float rounding).
+//
+// Parameters: a material function is built for one cell and receives that cell's own
+// parameters (u,v,w) in its parametric domain, plus the model-space position (x,y,z) in mm
+// of the same point. Each kind maps the cell's domain affinely onto its reference domain
+// (a spline field onto the field's own domain, the procedural kinds onto [0,1]^3), so the
+// same definition drives cells whose domains differ (paper, Section 4: textures are reused
+// across V-reps like 2D textures across surfaces).
+//
+// Evaluation is per row: one virtual call evaluates n samples (a run of voxels of a slice),
+// so dispatch never happens per voxel. Every evaluator is const and safe to call
+// concurrently from several threads on the same object.
+#pragma once
+
+#include "trivox/limits.h"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trivox/math.h"
+
+namespace trivox {
+
+// A material index meaning "no material" wherever a material function names one material
+// (a porous tile's colour, a curve's colour, a background).
+inline constexpr int kVoidMaterial = -1;
+
+
+// The affine map that sends the box `from` onto the box `to`, direction by direction:
+// p -> to.lo + (p - from.lo) * (to.hi - to.lo) / (from.hi - from.lo).
+struct AffineParamMap {
+  Vec3 scale{1.0, 1.0, 1.0};
+  Vec3 offset{0.0, 0.0, 0.0};
+
+  // Both boxes must have a positive extent in every direction (a spline's domain always has).
+  static AffineParamMap between(const ParamBox& from, const ParamBox& to) noexcept;
+
+  Vec3 operator()(Vec3 p) const noexcept {
+    return {offset.x + scale.x * p.x, offset.y + scale.y * p.y, offset.z + scale.z * p.z};
+  }
+  // The image of a box (the scales are positive, so corners map to corners).
+  ParamBox operator()(const ParamBox& b) const noexcept { return {(*this)(b.lo), (*this)(b.hi)}; }
+};
+
+// The unit cube [0,1]^3, the reference domain of the procedural and expression kinds.
+inline constexpr ParamBox kUnitParamBox{{0.0, 0.0, 0.0}, {1.0, 1.0, 1.0}};
+
+class MaterialFunction {
+ public:
+  virtual ~MaterialFunction() = default;
+  MaterialFunction(const MaterialFunction&) = delete;
+  MaterialFunction& operator=(const MaterialFunction&) = delete;
+
+  // m: how many fractions one sample has (the scene's material count).
+  int num_materials() const noexcept { return num_materials_; }
+
+  // A short name of the kind ("constant", "spline_field", ...), for reports and errors.
+  virtual std::string_view kind() const noexcept = 0;
+
+  // Evaluates n = uvw.size() samples. uvw: the cell's parameters; xyz: the model-space
+  // positions (mm) of the same points, xyz.size() == n; fractions: n * m values written
+  // sample-major, fractions[s * m + j] = fraction of material j at sample s. Parameters
+  // outside the cell's domain are clamped to it. Throws only where stated by the kind or
+  // by CheckedMaterial.
+  virtual void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
+                            std::span<float> fractions) const = 0;
+
+  // Conservative bounds over a box of the cell's parameters (and any position): for every
+  // p in `box` and every material j, lo[j] <= M_j(p) <= hi[j]. lo and hi hold m values each.
+  // A kind that cannot bound itself reports [-inf, +inf]; this default does so.
+  virtual void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const;
+
+  // One sample: a convenience for tests and tools, not for the slicing loop.
+  void evaluate(Vec3 uvw, Vec3 xyz, std::span<float> fractions) const {
+    evaluate_row(std::span<const Vec3>(&uvw, 1), std::span<const Vec3>(&xyz, 1), fractions);
+  }
+
+ protected:
+  // Throws Error unless 1 <= num_materials <= kMaxMaterials.
+  explicit MaterialFunction(int num_materials);
+
+ private:
+  int num_materials_;
+};
+
+// What to do when a sample's fractions break the rules (a negative fraction or a sum above 1).
+enum class SumPolicy {
+  error,      // beyond `tolerance`: throw InputError naming the cell and (u,v,w)
+  normalise,  // clamp negatives to 0, scale sums above 1 down to 1
+};
+
+struct FractionPolicy {
+  SumPolicy policy = SumPolicy::error;
+  // Slack allowed on both rules before the "error" policy throws; within it, fractions are
+  // still clamped and scaled so that the output rules hold exactly. Dimensionless.
+  double tolerance = 1e-4;
+
+  // Throws Error unless tolerance is finite and in [0, 1).
+  void validate() const;
+};
+
+// Where a material function was defined, for the error the "error" policy throws:
+// InputError(source, 0, pointer, "cell '<cell>': <rule> at (u,v,w) = (...)").
+struct MaterialSite {
+  std::string source;   // the scene file
+  std::string pointer;  // JSON pointer of the cell's material, e.g. "/cells/2/material"
+  std::string cell;     // the cell's name
+  std::vector<std::string> material_names;  // names by index for messages (may be empty)
+};
+
+// Applies `policy` in place to n samples of m fractions (n = uvw.size(), the parameters
+// reported in errors). A fraction that is not a finite number is an error under both
+// policies. Allocation-free; throws InputError as described for MaterialSite.
+void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m,
+                           std::span<const Vec3> uvw, std::span<float> fractions);
+
+}  // namespace trivox

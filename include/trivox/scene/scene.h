@@ -1,0 +1,67 @@
+// The scene: everything the slicer needs to print one FGM object, read from a documented
+// JSON file (format: docs/SCENE.md; schema: docs/scene.schema.json; examples under
+// examples/scenes/). A scene names the printer, the materials with their colours, and the
+// cells of the object, each a trivariate volume in millimetres with its material function
+// (paper, Section 3: FGM_cell = {V, M, S}; trimming surfaces are not part of this format).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trivox/material/material_function.h"
+#include "trivox/math.h"
+#include "trivox/printer/printer_profile.h"
+#include "trivox/spline/volume.h"
+
+namespace trivox {
+
+struct MaterialDef {
+  std::string name;
+  // sRGB colour and alpha (255 = opaque) used for this material in printer images and
+  // previews.
+  std::array<std::uint8_t, 4> rgba{0, 0, 0, 255};
+};
+
+struct Cell {
+  std::string name;     // unique in the scene
+  std::string pointer;  // JSON pointer of the cell's entry in the scene file, e.g. "/cells/2"
+  // The cell's geometry in model space (mm), its placement already applied to the control
+  // points (affine maps keep B-spline and NURBS volumes exact).
+  Volume volume;
+  // M(u,v,w) over volume.domain(), with the scene's fraction policy applied (a
+  // CheckedMaterial): num_materials() == the scene's material count; its fractions obey the
+  // rules of material_function.h or evaluation throws InputError naming this cell.
+  std::shared_ptr<const MaterialFunction> material;
+};
+
+struct Scene {
+  std::string source;  // the scene file as given
+  PrinterProfile printer;
+  std::vector<MaterialDef> materials;  // material j of every material function is materials[j]
+  FractionPolicy fraction_policy;
+  std::vector<Cell> cells;
+
+  int num_materials() const noexcept { return static_cast<int>(materials.size()); }
+  // Index of the material called `name`, or kVoidMaterial for "void" and for unknown names.
+  int material_index(std::string_view name) const noexcept;
+  // Conservative box of the whole object in model space (mm): the union of the cells'
+  // control-point boxes.
+  Box3 bounds() const noexcept;
+};
+
+// Reads a scene file. Model and field files it names are read relative to its folder.
+// Throws IoError when the scene file cannot be read, and InputError for everything wrong
+// inside it or in the files it names: what() is "scene.json: /json/pointer: rule" (or
+// "scene.json:LINE: rule" for JSON syntax errors).
+Scene read_scene(const std::filesystem::path& path);
+
+// The same from text: `source` names the scene in errors, and relative file names resolve
+// against source's parent folder.
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source);
+
+}  // namespace trivox

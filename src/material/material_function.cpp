@@ -1,0 +1,93 @@
+#include "trivox/material/material_function.h"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "trivox/error.h"
+
+namespace trivox {
+
+AffineParamMap AffineParamMap::between(const ParamBox& from, const ParamBox& to) noexcept {
+  AffineParamMap map;
+  for (int d = 0; d < 3; ++d) {
+    map.scale[d] = (to.hi[d] - to.lo[d]) / (from.hi[d] - from.lo[d]);
+    map.offset[d] = to.lo[d] - map.scale[d] * from.lo[d];
+  }
+  return map;
+}
+
+MaterialFunction::MaterialFunction(int num_materials) : num_materials_(num_materials) {
+  if (num_materials < 1 || num_materials > kMaxMaterials)
+    throw Error(fmt::format("a material function needs 1 to {} materials, got {}", kMaxMaterials,
+                            num_materials));
+}
+
+void MaterialFunction::bounds(const ParamBox&, std::span<float> lo, std::span<float> hi) const {
+  for (std::size_t j = 0; j < static_cast<std::size_t>(num_materials_); ++j) {
+    lo[j] = -std::numeric_limits<float>::infinity();
+    hi[j] = std::numeric_limits<float>::infinity();
+  }
+}
+
+void FractionPolicy::validate() const {
+  if (!std::isfinite(tolerance) || tolerance < 0.0 || tolerance >= 1.0)
+    throw Error(fmt::format("fraction tolerance {} is not a finite value in [0, 1)", tolerance));
+}
+
+namespace {
+
+std::string material_label(const MaterialSite& site, int j) {
+  const auto index = static_cast<std::size_t>(j);
+  return index < site.material_names.size() ? fmt::format("'{}'", site.material_names[index])
+                                            : fmt::format("{}", j);
+}
+
+// Kept out of line so that the row loop stays small; it only runs on the way to an error.
+[[noreturn]] void fail(const MaterialSite& site, Vec3 p, const std::string& rule) {
+  throw InputError(site.source, 0, site.pointer,
+                   fmt::format("cell '{}': {} at (u,v,w) = ({}, {}, {})", site.cell, rule, p.x,
+                               p.y, p.z));
+}
+
+}  // namespace
+
+void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m,
+                           std::span<const Vec3> uvw, std::span<float> fractions) {
+  const bool strict = policy.policy == SumPolicy::error;
+  const double tol = policy.tolerance;
+  const auto mm = static_cast<std::size_t>(m);
+  for (std::size_t s = 0; s < uvw.size(); ++s) {
+    float* f = fractions.data() + s * mm;
+    double sum = 0.0;
+    for (std::size_t j = 0; j < mm; ++j) {
+      const float v = f[j];
+      if (!std::isfinite(v))
+        fail(site, uvw[s],
+             fmt::format("the fraction of material {} is {}, not a finite number",
+                         material_label(site, static_cast<int>(j)), v));
+      if (v < 0.0f) {
+        if (strict && v < -tol)
+          fail(site, uvw[s],
+               fmt::format("the fraction of material {} is {:.6g} < 0 (tolerance {}; the scene's "
+                           "fraction policy is \"error\")",
+                           material_label(site, static_cast<int>(j)), v, tol));
+        f[j] = 0.0f;
+      } else {
+        sum += v;
+      }
+    }
+    if (sum > 1.0) {
+      if (strict && sum > 1.0 + tol)
+        fail(site, uvw[s],
+             fmt::format("the fractions sum to {:.6g} > 1 (tolerance {}; the scene's fraction "
+                         "policy is \"error\", \"normalise\" would scale them down)",
+                         sum, tol));
+      const auto scale = static_cast<float>(1.0 / sum);
+      for (std::size_t j = 0; j < mm; ++j) f[j] *= scale;
+    }
+  }
+}
+
+}  // namespace trivox

@@ -1,0 +1,274 @@
+// The top level of a scene file (docs/SCENE.md): format version, units, printer, materials,
+// the fraction policy, and the cells, each turned into a placed Volume and a policy-checked
+// material function.
+#include "trivox/scene/scene.h"
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "scene/json_view.h"
+#include "scene/scene_parse.h"
+#include "trivox/error.h"
+#include "trivox/material/checked_material.h"
+
+namespace trivox {
+
+using detail::Json;
+using detail::JsonView;
+
+int Scene::material_index(std::string_view name) const noexcept {
+  for (std::size_t i = 0; i < materials.size(); ++i)
+    if (materials[i].name == name) return static_cast<int>(i);
+  return kVoidMaterial;
+}
+
+Box3 Scene::bounds() const noexcept {
+  Box3 box;
+  for (const Cell& c : cells) box.expand(c.volume.bounds());
+  return box;
+}
+
+namespace {
+
+// nlohmann's parser keeps the last of two equal keys without a word; a repeated key in a
+// scene is a typo that would silently drop a setting, so the parse callback rejects it.
+class DuplicateKeyCheck {
+ public:
+  explicit DuplicateKeyCheck(const std::string& source) : source_(&source) {}
+
+  bool operator()(int, Json::parse_event_t event, Json& parsed) {
+    switch (event) {
+      case Json::parse_event_t::object_start: frames_.push_back({false, 0, {}, {}}); break;
+      case Json::parse_event_t::array_start: frames_.push_back({true, 0, {}, {}}); break;
+      case Json::parse_event_t::key: {
+        Frame& top = frames_.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second)
+          throw InputError(*source_, 0, pointer_to_top(),
+                           fmt::format("the key \"{}\" appears twice in this object", top.key));
+        break;
+      }
+      case Json::parse_event_t::value: element_done(); break;
+      case Json::parse_event_t::object_end:
+      case Json::parse_event_t::array_end:
+        frames_.pop_back();
+        element_done();
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool array;
+    std::size_t index;
+    std::string key;
+    std::set<std::string> keys;
+  };
+
+  void element_done() {
+    if (!frames_.empty() && frames_.back().array) ++frames_.back().index;
+  }
+  std::string pointer_to_top() const {
+    std::string p;
+    for (std::size_t i = 0; i + 1 < frames_.size(); ++i)
+      p += "/" + (frames_[i].array ? std::to_string(frames_[i].index) : frames_[i].key);
+    return p;
+  }
+
+  const std::string* source_;
+  std::vector<Frame> frames_;
+};
+
+Json parse_json(std::string_view text, const std::string& source) {
+  try {
+    return Json::parse(text.begin(), text.end(), DuplicateKeyCheck(source));
+  } catch (const Json::parse_error& e) {
+    const std::size_t end = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n');
+    throw InputError(source, static_cast<int>(line), "", fmt::format("invalid JSON: {}", e.what()));
+  }
+}
+
+double positive(const JsonView& v) {
+  const double x = v.number();
+  if (!(x > 0.0)) v.fail(fmt::format("{} is not > 0", x));
+  return x;
+}
+
+PrinterProfile builtin(const JsonView& name) {
+  try {
+    return builtin_printer_profile(name.string());
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    name.fail(e.what());
+  }
+}
+
+PrinterProfile parse_printer(const JsonView& node) {
+  if (node.is_string()) return builtin(node);
+  node.expect_object({"name", "base", "x_dpi", "y_dpi", "layer_thickness_mm", "max_materials"});
+  PrinterProfile p;
+  const auto base = node.find("base");
+  if (base) {
+    p = builtin(*base);
+  } else {
+    p.name = "custom";
+    for (std::string_view key : {"x_dpi", "y_dpi", "layer_thickness_mm", "max_materials"})
+      if (!node.find(key))
+        node.fail(fmt::format("the required key \"{}\" is missing (or give a built-in profile as "
+                              "\"base\")", key));
+  }
+  if (const auto v = node.find("name")) p.name = v->string();
+  if (const auto v = node.find("x_dpi")) p.x_dpi = positive(*v);
+  if (const auto v = node.find("y_dpi")) p.y_dpi = positive(*v);
+  if (const auto v = node.find("layer_thickness_mm")) p.layer_thickness_mm = positive(*v);
+  if (const auto v = node.find("max_materials")) p.max_materials = v->integer_in(1, kMaxMaterials);
+  try {
+    p.validate();
+  } catch (const Error& e) {
+    node.fail(e.what());
+  }
+  return p;
+}
+
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return -1;
+}
+
+std::array<std::uint8_t, 4> parse_rgba(const JsonView& node) {
+  std::array<std::uint8_t, 4> rgba{0, 0, 0, 255};
+  if (node.is_string()) {
+    const std::string& s = node.string();
+    const bool ok_size = s.size() == 7 || s.size() == 9;
+    bool ok = ok_size && s[0] == '#';
+    for (std::size_t i = 1; ok && i < s.size(); ++i) ok = hex_digit(s[i]) >= 0;
+    if (!ok)
+      node.fail(fmt::format("\"{}\" is not a colour \"#RRGGBB\" or \"#RRGGBBAA\" (hexadecimal)", s));
+    for (std::size_t c = 0; 2 * c + 1 < s.size(); ++c)
+      rgba[c] = static_cast<std::uint8_t>(16 * hex_digit(s[2 * c + 1]) + hex_digit(s[2 * c + 2]));
+    return rgba;
+  }
+  if (!node.is_array())
+    node.fail(fmt::format("expected [r, g, b, a] (integers 0 to 255) or \"#RRGGBBAA\", got {}",
+                          JsonView::describe(node.json())));
+  const std::vector<JsonView> c = node.elements(3, 4);
+  for (std::size_t i = 0; i < c.size(); ++i) rgba[i] = static_cast<std::uint8_t>(c[i].integer_in(0, 255));
+  return rgba;
+}
+
+std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProfile& printer) {
+  std::vector<MaterialDef> materials;
+  for (const JsonView& e : node.elements(1)) {
+    e.expect_object({"name", "rgba", "description"});
+    const JsonView name = e.at("name");
+    MaterialDef def{name.string(), parse_rgba(e.at("rgba"))};
+    if (def.name.empty()) name.fail("a material name must not be empty");
+    if (def.name == "void") name.fail("\"void\" is reserved for no material and needs no entry");
+    for (std::size_t i = 0; i < materials.size(); ++i)
+      if (materials[i].name == def.name)
+        name.fail(fmt::format("material \"{}\" is declared already as /materials/{}", def.name, i));
+    if (const auto d = e.find("description")) d->string();
+    materials.push_back(std::move(def));
+  }
+  if (static_cast<int>(materials.size()) > printer.max_materials)
+    node.fail(fmt::format("the scene declares {} materials; printer \"{}\" takes at most {} per job",
+                          materials.size(), printer.name, printer.max_materials));
+  return materials;
+}
+
+FractionPolicy parse_policy(const JsonView& node) {
+  node.expect_object({"policy", "tolerance"});
+  FractionPolicy policy;
+  if (const auto p = node.find("policy")) {
+    const std::string& s = p->string();
+    if (s == "error")
+      policy.policy = SumPolicy::error;
+    else if (s == "normalise" || s == "normalize")
+      policy.policy = SumPolicy::normalise;
+    else
+      p->fail(fmt::format("expected \"error\" or \"normalise\", got \"{}\"", s));
+  }
+  if (const auto t = node.find("tolerance")) {
+    policy.tolerance = t->number();
+    if (policy.tolerance < 0.0 || policy.tolerance >= 1.0)
+      t->fail(fmt::format("the tolerance {} is not in [0, 1)", policy.tolerance));
+  }
+  return policy;
+}
+
+void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
+  const std::vector<JsonView> cells = node.elements(1);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const JsonView& c = cells[i];
+    c.expect_object({"name", "geometry", "placement", "material"});
+    std::string base_name = fmt::format("cell {}", i);
+    if (const auto n = c.find("name")) {
+      base_name = n->string();
+      if (base_name.empty()) n->fail("a cell name must not be empty");
+    }
+    const JsonView material = c.at("material");
+    const std::optional<JsonView> placement = c.find("placement");
+    for (detail::GeometryPart& part : detail::parse_geometry(c.at("geometry"), ctx)) {
+      Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume)
+                                : std::move(part.volume);
+      std::string name = part.label.empty() ? base_name : base_name + "/" + part.label;
+      for (const Cell& other : scene.cells)
+        if (other.name == name)
+          (c.find("name") ? c.at("name") : c)
+              .fail(fmt::format("the cell name \"{}\" is taken by {} already", name, other.pointer));
+      auto raw = detail::parse_material(material, ctx, volume.domain());
+      MaterialSite site{scene.source, material.pointer(), name, ctx.material_names()};
+      auto checked = std::make_shared<CheckedMaterial>(std::move(raw), scene.fraction_policy, std::move(site));
+      scene.cells.push_back(Cell{std::move(name), c.pointer(), std::move(volume), std::move(checked)});
+    }
+  }
+}
+
+}  // namespace
+
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source) {
+  const std::string src = source.string();
+  const Json root = parse_json(json_text, src);
+  const JsonView top(root, "", src);
+  top.expect_object({"$schema", "version", "description", "units", "printer", "materials",
+                     "fraction_sums", "cells"});
+  if (const auto v = top.find("version"); v && v->integer() != 1)
+    v->fail(fmt::format("this is scene format version {}; trivox reads version 1", v->integer()));
+  if (const auto d = top.find("description")) d->string();
+  if (const auto s = top.find("$schema")) s->string();
+  const JsonView units = top.at("units");
+  if (units.string() != "mm")
+    units.fail(fmt::format("units \"{}\" are not supported: scenes are in millimetres, \"mm\"", units.string()));
+
+  Scene scene;
+  scene.source = src;
+  scene.printer = parse_printer(top.at("printer"));
+  scene.materials = parse_materials(top.at("materials"), scene.printer);
+  if (const auto p = top.find("fraction_sums")) scene.fraction_policy = parse_policy(*p);
+
+  detail::SceneContext ctx(src, source.parent_path());
+  std::vector<std::string> names;
+  for (const MaterialDef& m : scene.materials) names.push_back(m.name);
+  ctx.set_material_names(std::move(names));
+  parse_cells(top.at("cells"), ctx, scene);
+  return scene;
+}
+
+Scene read_scene(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("cannot open the scene file {}", path.string()));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IoError(fmt::format("cannot read the scene file {}", path.string()));
+  return parse_scene(text, path);
+}
+
+}  // namespace trivox
