@@ -1,0 +1,64 @@
+// read_model: picks the reader by file extension, or by the first character of the content
+// when the extension says nothing ('<' is XML, '[' is IRIT text).
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "trivox/error.h"
+#include "trivox/io/model.h"
+
+namespace trivox {
+
+std::vector<int> Model::volume_indices() const {
+  std::vector<int> out;
+  for (std::size_t i = 0; i < patches.size(); ++i)
+    if (patches[i].spline.param_dim() == 3) out.push_back(static_cast<int>(i));
+  return out;
+}
+
+namespace {
+
+std::string read_file(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError(fmt::format("cannot read model '{}': it is a directory", path.string()));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("cannot open model '{}': {}", path.string(), std::strerror(errno)));
+  std::ostringstream buf;
+  buf << in.rdbuf();
+  if (in.bad() || buf.bad()) throw IoError(fmt::format("reading model '{}' failed", path.string()));
+  return std::move(buf).str();
+}
+
+std::string lowercase(std::string s) {
+  for (char& c : s)
+    if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+  return s;
+}
+
+}  // namespace
+
+Model read_model(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  const std::string text = read_file(path);
+  const std::string ext = lowercase(path.extension().string());
+  if (ext == ".itd") return read_itd(text, source);
+  if (ext == ".xml") return read_gismo_xml(text, source);
+
+  // Unknown extension: sniff. A UTF-8 byte order mark may precede an XML file.
+  std::string_view head = text;
+  if (head.substr(0, 3) == "\xEF\xBB\xBF") head.remove_prefix(3);
+  const std::size_t first = head.find_first_not_of(" \t\r\n");
+  if (first != std::string_view::npos && head[first] == '<') return read_gismo_xml(text, source);
+  if (first != std::string_view::npos && head[first] == '[') return read_itd(text, source);
+  throw InputError(source, 0, "",
+                   fmt::format("unknown model format '{}': expected IRIT text (.itd) or G+Smo XML (.xml)", ext));
+}
+
+}  // namespace trivox

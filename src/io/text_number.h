@@ -1,0 +1,47 @@
+// Strict parsing of one number token, shared by the IRIT and G+Smo readers: the whole token
+// must be the number (no trailing garbage, no locale), so "1.5x" or "--2" are rejected
+// instead of silently read as 1.5 or 0 the way sscanf/atof would.
+#pragma once
+
+#include <charconv>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string_view>
+#include <system_error>
+
+namespace trivox::io_detail {
+
+// A decimal floating-point token ("-1.5e-3", "+2", "7."). "inf" and "nan" parse (to the
+// non-finite values) so the caller can name that rule precisely; a literal too large for a
+// double comes back as infinity for the same reason. nullopt when the token is not a number.
+inline std::optional<double> parse_double(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);  // from_chars rejects '+'; sscanf and IRIT accept it
+  if (s.empty() || s.front() == '+') return std::nullopt;
+  double v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (end != s.data() + s.size()) return std::nullopt;
+  if (ec == std::errc::result_out_of_range) {
+    // Overflow (|v| huge) reads as infinity; underflow (tiny) as zero, which is harmless.
+    const bool tiny = s.find_first_of("eE") != std::string_view::npos &&
+                      s[s.find_first_of("eE") + 1] == '-';
+    const bool negative = s.front() == '-';
+    if (tiny) return negative ? -0.0 : 0.0;
+    return negative ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  }
+  if (ec != std::errc{}) return std::nullopt;
+  return v;
+}
+
+// A decimal integer token ("12", "+3", "-1"). nullopt when the token is not an integer or
+// does not fit in 64 bits.
+inline std::optional<std::int64_t> parse_integer(std::string_view s) {
+  if (!s.empty() && s.front() == '+') s.remove_prefix(1);
+  if (s.empty() || s.front() == '+') return std::nullopt;
+  std::int64_t v = 0;
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
+  if (ec != std::errc{} || end != s.data() + s.size()) return std::nullopt;
+  return v;
+}
+
+}  // namespace trivox::io_detail
