@@ -1,1 +1,65 @@
-int main() { return 0; }
+// The trivox program: registers the subcommands (commands.h) and is the only place where
+// errors become messages on standard error and exit codes (cli_errors.h, docs/CLI.md).
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <string_view>
+#include <system_error>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "cli_errors.h"
+#include "commands.h"
+#include "trivox/error.h"
+
+namespace {
+
+int fail(trivox::cli::ExitCode code, std::string_view kind, std::string_view message) {
+  std::fflush(stdout);  // keep what was printed before the error ahead of it in a shared log
+  fmt::print(stderr, "trivox: {}: {}\n", kind, message);
+  return code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace trivox::cli;
+  try {
+    CLI::App app{"trivox: slices functionally graded material objects made of trivariate "
+                 "B-spline and NURBS volumes.",
+                 "trivox"};
+    app.require_subcommand(1);
+    for (const AddCommand add : kCommands) add(app);
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+      // --help is a ParseError too; CLI11 prints it and reports 0.
+      return app.exit(e) == 0 ? kExitOk : kExitUsage;
+    }
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+      return fail(kExitIo, "error",
+                  fmt::format("cannot write to standard output: {}", std::strerror(errno)));
+    return kExitOk;
+  } catch (const UsageError& e) {
+    const int code = fail(kExitUsage, "usage error", e.what());
+    std::fputs("Run with --help for more information.\n", stderr);
+    return code;
+  } catch (const trivox::IoError& e) {
+    return fail(kExitIo, "error", e.what());
+  } catch (const trivox::UnsupportedError& e) {  // a valid file using a feature trivox lacks
+    return fail(kExitInput, "unsupported", e.what());
+  } catch (const trivox::Error& e) {  // InputError, ModelError, settings the job cannot take
+    return fail(kExitInput, "error", e.what());
+  } catch (const std::system_error& e) {  // failed writes (fmt), filesystem errors
+    return fail(kExitIo, "error", e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(kExitInternal, "internal error", "out of memory");
+  } catch (const std::exception& e) {
+    return fail(kExitInternal, "internal error", e.what());
+  } catch (...) {
+    return fail(kExitInternal, "internal error", "unknown exception");
+  }
+}

@@ -1,0 +1,33 @@
+// The subcommands of the trivox program. Each command lives in its own cmd_<name>.cpp and
+// has one entry point that adds the subcommand, its options and its callback to the
+// application. Adding a command is: write cmd_<name>.cpp with add_<name>_command, declare it
+// here and list it in kCommands (the order is the order of `trivox --help`).
+//
+// Commands report failures by throwing: trivox::Error subclasses for bad input and I/O, and
+// UsageError (cli_errors.h) for a command line that cannot be satisfied by the model it
+// names. main() alone turns them into messages and exit codes.
+#pragma once
+
+#include <array>
+
+namespace CLI {
+class App;
+}
+
+namespace trivox::cli {
+
+// `trivox info MODEL [--json]`: patches, orders, control points, domains, bounds and a
+// sampled Jacobian check per trivariate.
+void add_info_command(CLI::App& app);
+
+// `trivox probe MODEL [--eval --patch N]`: evaluates parameters or inverts model-space points
+// read from standard input, one JSON line per input line.
+void add_probe_command(CLI::App& app);
+
+// `trivox slice SCENE -o DIR`: printer-ready layer images of a scene, with stats.json.
+void add_slice_command(CLI::App& app);
+
+using AddCommand = void (*)(CLI::App&);
+inline constexpr std::array<AddCommand, 3> kCommands = {&add_slice_command, &add_info_command, &add_probe_command};
+
+}  // namespace trivox::cli

@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 (bookworm) packages that building and testing trivox needs. Runs
+# apt-get only when a package is missing, so running it again costs one dpkg-query per
+# package. Nothing else is ever downloaded: the build and the tests use these packages only.
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config
+  libfmt-dev libpugixml-dev nlohmann-json3-dev libcli11-dev libtbb-dev
+  libpng-dev zlib1g-dev libmuparser-dev libeigen3-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+
+if ! command -v dpkg-query >/dev/null 2>&1; then
+  echo "install-deps: dpkg-query not found: this script installs Debian packages (Debian 12 bookworm)." >&2
+  echo "install-deps: on another system, install the equivalents of: ${packages[*]}" >&2
+  exit 1
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if [ "$(dpkg-query -W -f='${db:Status-Status}' "$p" 2>/dev/null)" != "installed" ]; then
+    missing+=("$p")
+  fi
+done
+
+if [ "${#missing[@]}" -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages are installed"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+if [ "$(id -u)" -eq 0 ]; then
+  as_root=()
+elif command -v sudo >/dev/null 2>&1; then
+  as_root=(sudo)
+else
+  echo "install-deps: these packages are missing and installing them needs root: ${missing[*]}" >&2
+  echo "install-deps: run this script as root, or install sudo, or ask an administrator for:" >&2
+  echo "  apt-get install ${missing[*]}" >&2
+  exit 1
+fi
+"${as_root[@]}" apt-get update
+"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends "${missing[@]}"

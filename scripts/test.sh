@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The README's second command: installs what is missing, builds and runs the whole test suite.
+#   scripts/test.sh                   release preset (build/release)
+#   scripts/test.sh --sanitize        release, then asan (AddressSanitizer + UBSan, -Werror)
+#   scripts/test.sh --sanitize-only   asan only (CI runs it after the plain command)
+# Tests that need ../shared/data skip with a message when it is absent. Parallel jobs:
+# TRIVOX_JOBS, default the number of processors. Ends with one summary line.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+case "${1:-}" in
+  "") presets=(release) ;;
+  --sanitize) presets=(release asan) ;;
+  --sanitize-only) presets=(asan) ;;
+  *) echo "test.sh: unknown option '$1' (expected --sanitize or --sanitize-only)" >&2; exit 2 ;;
+esac
+jobs="${TRIVOX_JOBS:-$(nproc)}"
+
+scripts/install-deps.sh
+
+summary=()
+failed=0
+for preset in "${presets[@]}"; do
+  scripts/build.sh "$preset"
+  log="build/$preset/ctest-output.log"
+  set +e
+  ctest --preset "$preset" --parallel "$jobs" 2>&1 | tee "$log"
+  status=${PIPESTATUS[0]}
+  set -e
+  result=$(grep -E 'tests passed|No tests were found' "$log" | tail -n 1 || true)
+  summary+=("$preset: ${result:-ctest exited with status $status}")
+  [ "$status" -eq 0 ] || failed=1
+done
+
+line="test.sh:"
+separator=" "
+for s in "${summary[@]}"; do
+  line+="$separator$s"
+  separator="; "
+done
+echo "$line"
+exit "$failed"
