@@ -16,6 +16,14 @@ std::string_view to_string(InverseStatus s) noexcept {
 
 namespace detail {
 
+namespace {
+// det J counts as zero when it is negligible against the product of the column lengths (the
+// volume of the parallelepiped against the volume its edges could span).
+double singular_threshold(const Mat3& J) noexcept {
+  return 1e-14 * norm(J.column(0)) * norm(J.column(1)) * norm(J.column(2));
+}
+}  // namespace
+
 // Newton's step d solves J d = x - V. A step that would leave the box is cut back to the box
 // (projected Newton); if the iterate then cannot move, x lies beyond that face. A step that
 // increases the residual is halved (backtracking), which is checked lazily with the next
@@ -50,11 +58,8 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
       continue;
     }
     halvings = 0;
-    // Singular when det J is negligible against the product of the column lengths (the
-    // volume of the parallelepiped against the volume its edges could span).
-    const double scale = norm(J.column(0)) * norm(J.column(1)) * norm(J.column(2));
     Vec3 d;
-    if (!solve3(J, diff, d, 1e-14 * scale)) {
+    if (!solve3(J, diff, d, singular_threshold(J))) {
       r.status = InverseStatus::kSingular;
       return r;
     }
@@ -92,8 +97,7 @@ InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 se
     r.status = InverseStatus::kConverged;
     return r;
   }
-  const double scale = norm(jacobian.column(0)) * norm(jacobian.column(1)) * norm(jacobian.column(2));
-  if (solve3(jacobian, x - p, d, 1e-14 * scale)) {
+  if (solve3(jacobian, x - p, d, singular_threshold(jacobian))) {
     const Vec3 target = u0 + d;
     if (box.contains(target)) {
       const Vec3 q = volume.evaluate(target);

@@ -27,19 +27,7 @@ double max_deviation(const TensorSpline& a, const TensorSpline& b, std::mt19937&
   return worst;
 }
 
-TensorSpline periodic_rational(std::mt19937& rng) {
-  std::uniform_real_distribution<double> U(-1.0, 1.0), W(0.5, 2.0);
-  const KnotVector ku(3, {0, 0.5, 1, 2, 3, 3.5, 4, 5});
-  const KnotVector kv = KnotVector::periodic(4, 5, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
-  const KnotVector kw(2, {0, 0, 0.3, 1, 1});
-  const int n = ku.num_ctrl() * kv.num_ctrl() * kw.num_ctrl();
-  std::vector<double> pts, w;
-  for (int i = 0; i < n; ++i) {
-    pts.insert(pts.end(), {U(rng), U(rng), U(rng)});
-    w.push_back(W(rng));
-  }
-  return TensorSpline({ku, kv, kw}, 3, pts, w);
-}
+TensorSpline periodic_rational(std::mt19937& rng) { return test::random_rational_spline(rng); }
 
 TEST(Refine, KnotInsertionKeepsGeometry) {
   std::mt19937 rng(21);

@@ -19,20 +19,7 @@ Vec3 random_param(std::mt19937& rng, const ParamBox& d) {
   return {d.lo.x + U(rng) * (d.hi.x - d.lo.x), d.lo.y + U(rng) * (d.hi.y - d.lo.y), d.lo.z + U(rng) * (d.hi.z - d.lo.z)};
 }
 
-// A random rational volume with unclamped knots in u and a periodic direction in v.
-Volume random_rational_volume(std::mt19937& rng) {
-  std::uniform_real_distribution<double> U(-1.0, 1.0), W(0.5, 2.0);
-  const KnotVector ku(3, {0, 0.5, 1, 2, 3, 3.5, 4, 5});         // 5 basis, unclamped
-  const KnotVector kv = KnotVector::periodic(4, 5, {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});
-  const KnotVector kw(2, {0, 0, 0.3, 1, 1});
-  const int n = ku.num_ctrl() * kv.num_ctrl() * kw.num_ctrl();
-  std::vector<double> pts, w;
-  for (int i = 0; i < n; ++i) {
-    pts.insert(pts.end(), {U(rng), U(rng), U(rng)});
-    w.push_back(W(rng));
-  }
-  return Volume(TensorSpline({ku, kv, kw}, 3, pts, w));
-}
+Volume random_rational_volume(std::mt19937& rng) { return Volume(test::random_rational_spline(rng)); }
 
 TEST(Volume, FastEvaluatorMatchesGeneralPath) {
   std::mt19937 rng(7);

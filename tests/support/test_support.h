@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <random>
 #include <string>
 
 #include "trivox/spline/volume.h"
@@ -24,5 +25,10 @@ Volume cylinder_sector(double r, double h);
 // about z, a bend along x over the height and rows bowed within each layer; regular
 // (det J > 0) everywhere.
 Volume twisted_bent_box(double sx, double sy, double sz, int ctrl = 8, int order = 4);
+
+// A random rational trivariate with every kind of knot vector: unclamped in u (order 3),
+// periodic in v (IRIT [KVP, order 4, 5 points), clamped with an interior knot in w (order 2);
+// points in [-1, 1]^3, weights in [0.5, 2].
+TensorSpline random_rational_spline(std::mt19937& rng);
 
 }  // namespace trivox::test
