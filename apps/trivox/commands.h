@@ -4,8 +4,9 @@
 // here and list it in kCommands (the order is the order of `trivox --help`).
 //
 // Commands report failures by throwing: trivox::Error subclasses for bad input and I/O, and
-// UsageError (cli_errors.h) for a command line that cannot be satisfied by the model it
-// names. main() alone turns them into messages and exit codes.
+// UsageError (cli_errors.h) for a command line that parses but cannot be carried out (an
+// option value out of its set, a patch the model does not have). main() alone turns them
+// into messages and exit codes.
 #pragma once
 
 #include <array>
@@ -28,6 +29,7 @@ void add_probe_command(CLI::App& app);
 void add_slice_command(CLI::App& app);
 
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 3> kCommands = {&add_slice_command, &add_info_command, &add_probe_command};
+inline constexpr std::array<AddCommand, 3> kCommands = {&add_slice_command, &add_info_command,
+                                                        &add_probe_command};
 
 }  // namespace trivox::cli

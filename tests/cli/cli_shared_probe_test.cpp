@@ -1,6 +1,8 @@
 // `trivox probe` round trips on every real volume file in ../shared/data/volumes: parameters
 // evaluated by the program, inverted by the program, and the original parameters found among
 // the preimages it reports (the global solver lists every preimage, also on folded patches).
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
