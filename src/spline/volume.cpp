@@ -6,13 +6,14 @@
 
 #include "trivox/error.h"
 #include "trivox/spline/basis.h"
+#include "power_form.h"
 #include "volume_kernels.h"
 
 namespace trivox {
 
 using detail::H;
 
-Volume::Volume(TensorSpline spline) : spline_(std::move(spline)) {
+Volume::Volume(TensorSpline spline, const VolumeOptions& options) : spline_(std::move(spline)) {
   if (spline_.param_dim() != 3 || spline_.point_dim() != 3)
     throw ModelError(fmt::format("a volume needs 3 parametric directions and 3D points, got {} and {}",
                                  spline_.param_dim(), spline_.point_dim()));
@@ -33,6 +34,14 @@ Volume::Volume(TensorSpline spline) : spline_(std::move(spline)) {
   const auto k = orders();
   evaluate_fn_ = detail::select_evaluate(k[0], k[1], k[2]);
   evaluate_jacobian_fn_ = detail::select_evaluate_jacobian(k[0], k[1], k[2]);
+  if (options.power_form) {
+    auto power = std::make_shared<detail::PowerForm>();
+    if (detail::build_power_form(data(), *power, options.power_form_max_bytes)) {
+      power_ = std::move(power);
+      power_evaluate_fn_ = detail::select_power_evaluate(k[0], k[1], k[2]);
+      power_evaluate_jacobian_fn_ = detail::select_power_evaluate_jacobian(k[0], k[1], k[2]);
+    }
+  }
 }
 
 detail::VolumeData Volume::data() const noexcept {
@@ -43,9 +52,13 @@ detail::VolumeData Volume::data() const noexcept {
           nu * static_cast<std::size_t>(num_basis_[1])};
 }
 
-Vec3 Volume::evaluate(Vec3 uvw) const noexcept { return evaluate_fn_(data(), uvw); }
+Vec3 Volume::evaluate(Vec3 uvw) const noexcept {
+  if (power_) return power_evaluate_fn_(*power_, uvw);
+  return evaluate_fn_(data(), uvw);
+}
 
 void Volume::evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noexcept {
+  if (power_) return power_evaluate_jacobian_fn_(*power_, uvw, value, jacobian);
   evaluate_jacobian_fn_(data(), uvw, value, jacobian);
 }
 

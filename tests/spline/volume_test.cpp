@@ -21,32 +21,86 @@ Vec3 random_param(std::mt19937& rng, const ParamBox& d) {
 
 Volume random_rational_volume(std::mt19937& rng) { return Volume(test::random_rational_spline(rng)); }
 
-TEST(Volume, FastEvaluatorMatchesGeneralPath) {
-  std::mt19937 rng(7);
-  std::vector<Volume> volumes = {random_rational_volume(rng), test::twisted_bent_box(3, 2, 1),
-                                 test::annulus_sector(1, 2, 1)};
-  for (const Volume& v : volumes) {
-    for (int s = 0; s < 500; ++s) {
-      const Vec3 t = random_param(rng, v.domain());
-      const double tt[3] = {t.x, t.y, t.z};
-      double ref[3], refd[9];
-      v.spline().evaluate_with_partials(tt, ref, refd);
-      Vec3 p;
-      Mat3 J;
-      v.evaluate_jacobian(t, p, J);
-      const Vec3 q = v.evaluate(t);
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(p[c], ref[c], 1e-12);
-        EXPECT_NEAR(q[c], ref[c], 1e-12);
-        for (int d = 0; d < 3; ++d)
-          EXPECT_NEAR(J.m[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)], refd[d * 3 + c],
-                      1e-10 * (1 + std::abs(refd[d * 3 + c])));
-      }
-      double only[3];
-      v.spline().evaluate(tt, only);
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(only[c], ref[c], 1e-12);
+// Both fast kernels against TensorSpline's general evaluator at random parameters and at
+// every breakpoint (where the power form switches pieces and the span convention matters).
+void expect_matches_general_path(const Volume& v, std::mt19937& rng) {
+  std::vector<Vec3> params;
+  for (int s = 0; s < 500; ++s) params.push_back(random_param(rng, v.domain()));
+  for (int d = 0; d < 3; ++d)
+    for (double knot : v.spline().knots(d).knots()) {
+      Vec3 t = random_param(rng, v.domain());
+      t[d] = knot;  // outside the domain too: both clamp
+      params.push_back(t);
     }
+  for (const Vec3& t : params) {
+    const double tt[3] = {t.x, t.y, t.z};
+    double ref[3], refd[9];
+    v.spline().evaluate_with_partials(tt, ref, refd);
+    Vec3 p;
+    Mat3 J;
+    v.evaluate_jacobian(t, p, J);
+    const Vec3 q = v.evaluate(t);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(p[c], ref[c], 1e-12) << t.x << ' ' << t.y << ' ' << t.z;
+      EXPECT_NEAR(q[c], ref[c], 1e-12) << t.x << ' ' << t.y << ' ' << t.z;
+      for (int d = 0; d < 3; ++d)
+        EXPECT_NEAR(J.m[static_cast<std::size_t>(c)][static_cast<std::size_t>(d)], refd[d * 3 + c],
+                    1e-10 * (1 + std::abs(refd[d * 3 + c])));
+    }
+    double only[3];
+    v.spline().evaluate(tt, only);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(only[c], ref[c], 1e-12);
   }
+}
+
+// Mixed orders 2, 3, 4, a repeated interior knot of full multiplicity (a jump) and one of
+// multiplicity 2 (a kink in the quadratic direction), non-uniform spacing.
+TensorSpline discontinuous_spline(std::mt19937& rng) {
+  std::uniform_real_distribution<double> U(-1.0, 1.0), W(0.5, 2.0);
+  const KnotVector ku(4, {0, 0, 0, 0, 0.25, 0.25, 0.25, 0.25, 0.7, 1, 1, 1, 1});
+  const KnotVector kv(2, {-1, -1, 0.5, 2, 2});
+  const KnotVector kw(3, {0, 0, 0, 0.4, 0.4, 3, 3, 3});
+  const int n = ku.num_ctrl() * kv.num_ctrl() * kw.num_ctrl();
+  std::vector<double> pts, w;
+  for (int i = 0; i < n; ++i) {
+    pts.insert(pts.end(), {U(rng), U(rng), U(rng)});
+    w.push_back(W(rng));
+  }
+  return TensorSpline({ku, kv, kw}, 3, pts, w);
+}
+
+TEST(Volume, FastEvaluatorsMatchGeneralPath) {
+  std::mt19937 rng(7);
+  const std::vector<TensorSpline> splines = {test::random_rational_spline(rng), discontinuous_spline(rng),
+                                             test::twisted_bent_box(3, 2, 1).spline(),
+                                             test::annulus_sector(1, 2, 1).spline()};
+  VolumeOptions de_boor;
+  de_boor.power_form = false;
+  for (const TensorSpline& s : splines) {
+    const Volume fast(s), reference_kernel(s, de_boor);
+    EXPECT_EQ(fast.kernel(), VolumeKernel::kPowerForm);
+    EXPECT_EQ(reference_kernel.kernel(), VolumeKernel::kDeBoor);
+    expect_matches_general_path(fast, rng);
+    expect_matches_general_path(reference_kernel, rng);
+  }
+}
+
+TEST(Volume, PowerFormFallsBackToDeBoor) {
+  std::mt19937 rng(3);
+  // Beyond the memory cap.
+  VolumeOptions tiny;
+  tiny.power_form_max_bytes = 1024;
+  const Volume capped(test::twisted_bent_box(3, 2, 1).spline(), tiny);
+  EXPECT_EQ(capped.kernel(), VolumeKernel::kDeBoor);
+  expect_matches_general_path(capped, rng);
+  // Order 5 in one direction.
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  const KnotVector k5 = KnotVector::clamped_uniform(5, 7), k2 = KnotVector::clamped_uniform(2, 3);
+  std::vector<double> pts;
+  for (int i = 0; i < 7 * 3 * 3; ++i) pts.insert(pts.end(), {U(rng), U(rng), U(rng)});
+  const Volume quartic(TensorSpline({k5, k2, k2}, 3, pts, {}));
+  EXPECT_EQ(quartic.kernel(), VolumeKernel::kDeBoor);
+  expect_matches_general_path(quartic, rng);
 }
 
 TEST(Volume, JacobianMatchesFiniteDifferences) {

@@ -5,6 +5,8 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "trivox/math.h"
@@ -13,12 +15,35 @@
 namespace trivox {
 namespace detail {
 struct VolumeData;
+struct PowerForm;
 }
+
+// The two fast evaluators behind Volume::evaluate and evaluate_jacobian. Both are checked
+// against TensorSpline's general evaluator (the reference) in the tests.
+enum class VolumeKernel {
+  // Each polynomial piece stored in power form in its local coordinates: no span search
+  // beyond a table look-up, no basis recursion. Orders 2 to 4 in every direction only.
+  kPowerForm,
+  // De Boor-style contraction of the control points with the basis functions: any order.
+  kDeBoor,
+};
+
+struct VolumeOptions {
+  // Use the power form where the orders allow it and its table fits in the cap below.
+  bool power_form = true;
+  // The power form stores order_u * order_v * order_w homogeneous points per polynomial
+  // piece (2 KiB per cubic piece); beyond this size the volume uses the de Boor kernel.
+  // The default holds 32768 cubic pieces, a 35 x 35 x 35 control net.
+  std::size_t power_form_max_bytes = std::size_t{64} << 20;
+};
 
 class Volume {
  public:
   // Throws ModelError unless the spline has param_dim 3 and point_dim 3.
-  explicit Volume(TensorSpline spline);
+  explicit Volume(TensorSpline spline, const VolumeOptions& options = {});
+
+  // The evaluator chosen at construction.
+  VolumeKernel kernel() const noexcept { return power_ ? VolumeKernel::kPowerForm : VolumeKernel::kDeBoor; }
 
   const TensorSpline& spline() const noexcept { return spline_; }
   const ParamBox& domain() const noexcept { return domain_; }
@@ -49,6 +74,10 @@ class Volume {
   // Kernels specialised for this volume's orders (chosen once, in the constructor).
   Vec3 (*evaluate_fn_)(const detail::VolumeData&, Vec3) noexcept = nullptr;
   void (*evaluate_jacobian_fn_)(const detail::VolumeData&, Vec3, Vec3&, Mat3&) noexcept = nullptr;
+  // The power form, when used (immutable, so copies of the volume share it).
+  std::shared_ptr<const detail::PowerForm> power_;
+  Vec3 (*power_evaluate_fn_)(const detail::PowerForm&, Vec3) noexcept = nullptr;
+  void (*power_evaluate_jacobian_fn_)(const detail::PowerForm&, Vec3, Vec3&, Mat3&) noexcept = nullptr;
   detail::VolumeData data() const noexcept;
 };
 

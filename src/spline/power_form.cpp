@@ -1,0 +1,246 @@
+#include "power_form.h"
+
+#include <array>
+#include <utility>
+
+#include "trivox/spline/basis.h"
+
+namespace trivox::detail {
+
+namespace {
+
+constexpr int kMaxPowerOrder = 4;
+
+// Along one direction: the pieces of the domain and, per piece, the matrix taking the k
+// local B-spline coefficients to the k power coefficients in the local coordinate s.
+// M[i][a] = N_a^(i)(t_start) * width^i / i! (Taylor expansion at the piece's start).
+struct AxisPieces {
+  PieceAxis axis;
+  std::vector<int> first_basis;  // index of the first non-zero basis function per piece
+  std::vector<std::array<std::array<double, kMaxPowerOrder>, kMaxPowerOrder>> matrix;
+};
+
+AxisPieces split_axis(const KnotVector& kv) {
+  AxisPieces out;
+  const int k = kv.order();
+  const auto U = kv.knots();
+  const double lo = kv.lo(), hi = kv.hi();
+  // Span s covers [U[s], U[s+1]); the domain's spans are s = k-1 .. num_basis-1.
+  for (int s = k - 1; s < kv.num_basis(); ++s) {
+    const double a = U[static_cast<std::size_t>(s)], b = U[static_cast<std::size_t>(s) + 1];
+    if (!(a < b)) continue;
+    out.axis.breaks.push_back(a);
+    out.axis.inv_width.push_back(1.0 / (b - a));
+    out.first_basis.push_back(s - (k - 1));
+    double ders[kMaxPowerOrder * kMaxPowerOrder] = {};
+    basis_derivatives(kv, s, a, k - 1, ders);
+    auto& m = out.matrix.emplace_back();
+    double scale = 1.0;  // width^i / i!
+    for (int i = 0; i < k; ++i) {
+      for (int j = 0; j < k; ++j)
+        m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = ders[i * k + j] * scale;
+      scale *= (b - a) / (i + 1);
+    }
+  }
+  out.axis.breaks.push_back(hi);
+  out.axis.pieces = static_cast<int>(out.axis.inv_width.size());
+  out.axis.lo = lo;
+  out.axis.hi = hi;
+  out.axis.pieces_per_unit = out.axis.pieces / (hi - lo);
+  return out;
+}
+
+}  // namespace
+
+bool build_power_form(const VolumeData& data, PowerForm& out, std::size_t max_bytes) {
+  out = PowerForm{};
+  int k[3];
+  for (int d = 0; d < 3; ++d) {
+    k[d] = data.knots[d]->order();
+    if (k[d] < 2 || k[d] > kMaxPowerOrder) return false;
+  }
+  // Count pieces before building anything, so an oversized volume costs nothing.
+  std::size_t pieces = 1;
+  for (int d = 0; d < 3; ++d) {
+    const auto U = data.knots[d]->knots();
+    std::size_t n = 0;
+    for (int s = k[d] - 1; s < data.knots[d]->num_basis(); ++s)
+      if (U[static_cast<std::size_t>(s)] < U[static_cast<std::size_t>(s) + 1]) ++n;
+    pieces *= n;
+  }
+  const std::size_t per_piece = static_cast<std::size_t>(k[0] * k[1] * k[2]);
+  if (pieces * per_piece * sizeof(V4) > max_bytes) return false;
+
+  AxisPieces ax[3] = {split_axis(*data.knots[0]), split_axis(*data.knots[1]), split_axis(*data.knots[2])};
+  for (int d = 0; d < 3; ++d) {
+    out.axis[d] = ax[d].axis;
+    out.order[d] = k[d];
+  }
+  out.coefficients_per_piece = per_piece;
+  out.coefficients.resize(pieces * per_piece);
+
+  // Per piece: C = (Mu x Mv x Mw) P, applied one direction at a time.
+  std::vector<V4> tmp1(per_piece), tmp2(per_piece);
+  const int ku = k[0], kv = k[1], kw = k[2];
+  auto at = [&](int a, int b, int c) { return static_cast<std::size_t>(a + ku * (b + kv * c)); };
+  for (int pw = 0; pw < ax[2].axis.pieces; ++pw)
+    for (int pv = 0; pv < ax[1].axis.pieces; ++pv)
+      for (int pu = 0; pu < ax[0].axis.pieces; ++pu) {
+        const auto& Mu = ax[0].matrix[static_cast<std::size_t>(pu)];
+        const auto& Mv = ax[1].matrix[static_cast<std::size_t>(pv)];
+        const auto& Mw = ax[2].matrix[static_cast<std::size_t>(pw)];
+        const int fu = ax[0].first_basis[static_cast<std::size_t>(pu)];
+        const int fv = ax[1].first_basis[static_cast<std::size_t>(pv)];
+        const int fw = ax[2].first_basis[static_cast<std::size_t>(pw)];
+        for (int c = 0; c < kw; ++c)
+          for (int b = 0; b < kv; ++b) {
+            const H* row = data.points + static_cast<std::size_t>(fw + c) * data.stride_w +
+                           static_cast<std::size_t>(fv + b) * data.stride_v + static_cast<std::size_t>(fu);
+            for (int i = 0; i < ku; ++i) {
+              V4 sum{};
+              for (int a = 0; a < ku; ++a) sum += Mu[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] * load(row[a]);
+              tmp1[at(i, b, c)] = sum;
+            }
+          }
+        for (int c = 0; c < kw; ++c)
+          for (int j = 0; j < kv; ++j)
+            for (int i = 0; i < ku; ++i) {
+              V4 sum{};
+              for (int b = 0; b < kv; ++b) sum += Mv[static_cast<std::size_t>(j)][static_cast<std::size_t>(b)] * tmp1[at(i, b, c)];
+              tmp2[at(i, j, c)] = sum;
+            }
+        V4* dst = out.coefficients.data() +
+                  ((static_cast<std::size_t>(pw) * static_cast<std::size_t>(ax[1].axis.pieces) +
+                    static_cast<std::size_t>(pv)) *
+                       static_cast<std::size_t>(ax[0].axis.pieces) +
+                   static_cast<std::size_t>(pu)) *
+                      per_piece;
+        for (int l = 0; l < kw; ++l)
+          for (int j = 0; j < kv; ++j)
+            for (int i = 0; i < ku; ++i) {
+              V4 sum{};
+              for (int c = 0; c < kw; ++c) sum += Mw[static_cast<std::size_t>(l)][static_cast<std::size_t>(c)] * tmp2[at(i, j, c)];
+              dst[at(i, j, l)] = sum;
+            }
+      }
+  return true;
+}
+
+namespace {
+
+// Powers 1, s, s^2, ... and their derivatives 0, 1, 2s, 3s^2, ... for a compile-time order.
+template <int K>
+struct Powers {
+  double p[K], d[K];
+  explicit Powers(double s) noexcept {
+    p[0] = 1.0;
+    d[0] = 0.0;
+    for (int i = 1; i < K; ++i) {
+      p[i] = p[i - 1] * s;
+      d[i] = i * p[i - 1];
+    }
+  }
+};
+
+template <int KU, int KV, int KW>
+Vec3 power_evaluate(const PowerForm& f, Vec3 uvw) noexcept {
+  double s, t, r;
+  const int pu = f.axis[0].locate(uvw.x, s);
+  const int pv = f.axis[1].locate(uvw.y, t);
+  const int pw = f.axis[2].locate(uvw.z, r);
+  const V4* c = f.piece(pu, pv, pw);
+  const Powers<KU> ps(s);
+  const Powers<KV> pt(t);
+  const Powers<KW> pr(r);
+  V4 acc{};
+  for (int k = 0; k < KW; ++k) {
+    V4 plane{};
+    for (int j = 0; j < KV; ++j) {
+      const V4* row = c + KU * (j + KV * k);
+      V4 line = row[0];
+      for (int i = 1; i < KU; ++i) line += ps.p[i] * row[i];
+      plane += pt.p[j] * line;
+    }
+    acc += pr.p[k] * plane;
+  }
+  const double inv = 1.0 / acc[3];
+  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
+}
+
+template <int KU, int KV, int KW>
+void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& jac) noexcept {
+  double s, t, r;
+  const int pu = f.axis[0].locate(uvw.x, s);
+  const int pv = f.axis[1].locate(uvw.y, t);
+  const int pw = f.axis[2].locate(uvw.z, r);
+  const V4* c = f.piece(pu, pv, pw);
+  const Powers<KU> ps(s);
+  const Powers<KV> pt(t);
+  const Powers<KW> pr(r);
+  V4 S{}, Su{}, Sv{}, Sw{};
+  for (int k = 0; k < KW; ++k) {
+    V4 P{}, Pu{}, Pv{};
+    for (int j = 0; j < KV; ++j) {
+      const V4* row = c + KU * (j + KV * k);
+      V4 L = row[0], Lu = row[1];
+      for (int i = 1; i < KU; ++i) L += ps.p[i] * row[i];
+      for (int i = 2; i < KU; ++i) Lu += ps.d[i] * row[i];
+      P += pt.p[j] * L;
+      Pu += pt.p[j] * Lu;
+      Pv += pt.d[j] * L;
+    }
+    S += pr.p[k] * P;
+    Su += pr.p[k] * Pu;
+    Sv += pr.p[k] * Pv;
+    Sw += pr.d[k] * P;
+  }
+  // Back from local coordinates to parameters (chain rule), then the quotient rule on the
+  // homogeneous coordinates: x = A / W, dx = (dA - x dW) / W.
+  const double inv = 1.0 / S[3];
+  value = {S[0] * inv, S[1] * inv, S[2] * inv};
+  const double scale[3] = {f.axis[0].inv_width[static_cast<std::size_t>(pu)] * inv,
+                           f.axis[1].inv_width[static_cast<std::size_t>(pv)] * inv,
+                           f.axis[2].inv_width[static_cast<std::size_t>(pw)] * inv};
+  const V4* partial[3] = {&Su, &Sv, &Sw};
+  for (int col = 0; col < 3; ++col) {
+    const V4& p = *partial[col];
+    const auto cc = static_cast<std::size_t>(col);
+    jac.m[0][cc] = (p[0] - value.x * p[3]) * scale[col];
+    jac.m[1][cc] = (p[1] - value.y * p[3]) * scale[col];
+    jac.m[2][cc] = (p[2] - value.z * p[3]) * scale[col];
+  }
+}
+
+constexpr int kFirst = 2, kCount = kMaxPowerOrder - kFirst + 1;
+
+template <std::size_t... I>
+constexpr auto make_table(std::index_sequence<I...>) {
+  return std::array<std::pair<PowerEvaluateFn, PowerEvaluateJacobianFn>, sizeof...(I)>{
+      std::pair<PowerEvaluateFn, PowerEvaluateJacobianFn>{
+          &power_evaluate<kFirst + static_cast<int>(I % kCount), kFirst + static_cast<int>((I / kCount) % kCount),
+                          kFirst + static_cast<int>(I / (kCount * kCount))>,
+          &power_evaluate_jacobian<kFirst + static_cast<int>(I % kCount),
+                                   kFirst + static_cast<int>((I / kCount) % kCount),
+                                   kFirst + static_cast<int>(I / (kCount * kCount))>}...};
+}
+
+constexpr auto kTable = make_table(std::make_index_sequence<kCount * kCount * kCount>{});
+
+std::size_t slot(int ku, int kv, int kw) noexcept {
+  return static_cast<std::size_t>((ku - kFirst) + kCount * (kv - kFirst) + kCount * kCount * (kw - kFirst));
+}
+bool supported(int k) noexcept { return k >= kFirst && k <= kMaxPowerOrder; }
+
+}  // namespace
+
+PowerEvaluateFn select_power_evaluate(int ku, int kv, int kw) noexcept {
+  if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
+  return kTable[slot(ku, kv, kw)].first;
+}
+
+PowerEvaluateJacobianFn select_power_evaluate_jacobian(int ku, int kv, int kw) noexcept {
+  if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
+  return kTable[slot(ku, kv, kw)].second;
+}
+
+}  // namespace trivox::detail
