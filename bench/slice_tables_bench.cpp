@@ -4,11 +4,12 @@
 // filling a box of 128 x 128 x 88 mm, with the porous-tiles material, at 600 x 300 dpi and
 // 30 um layers (Stratasys J750, the paper's settings).
 //
-//   slice_tables_bench [--layers N] [--table1-scale S]
+//   slice_tables_bench [--layers N] [--table1-scale S] [--table2-only]
 // --layers N: Table 2 slices N layers spread evenly over the height (default 9) and reports
 //             per-layer figures and the projected total for all layers.
 // --table1-scale S: Table 1 runs on the same model scaled by S (default 0.25) so that the
 //             "none" row (a global solve per pixel) finishes in seconds.
+// --table2-only: skip Table 1 (for profiling the production path alone).
 #include <chrono>
 #include <cstring>
 #include <memory>
@@ -53,12 +54,20 @@ double arg_double(int argc, char** argv, const char* name, double fallback) {
 
 }  // namespace
 
+bool has_flag(int argc, char** argv, const char* name) {
+  for (int i = 1; i < argc; ++i)
+    if (std::strcmp(argv[i], name) == 0) return true;
+  return false;
+}
+
 int main(int argc, char** argv) {
   const int layers = arg_int(argc, argv, "--layers", 9);
   const double t1_scale = arg_double(argc, argv, "--table1-scale", 0.25);
 
+  const bool table1 = !has_flag(argc, argv, "--table2-only");
+
   // Table 1: one middle layer, each strategy, single thread.
-  {
+  if (table1) {
     const Scene scene = duck_class_scene(t1_scale);
     fmt::print("Table 1 (model scaled by {}; middle layer; one thread)\n\n", t1_scale);
     fmt::print("| tracing | time [s] | global solves [% of inside voxels] | inside voxels |\n|---|---|---|---|\n");

@@ -27,6 +27,13 @@ Box3 BezierNet::bounds() const {
   return b;
 }
 
+double BezierNet::max_along(Vec3 direction) const {
+  double best = -HUGE_VAL;
+  for (const H& p : h)
+    best = std::max(best, (direction.x * p[0] + direction.y * p[1] + direction.z * p[2]) / p[3]);
+  return best;
+}
+
 std::array<BezierNet, 2> BezierNet::halve(int d) const {
   std::array<BezierNet, 2> out{*this, *this};
   const double mid = 0.5 * (box.lo[d] + box.hi[d]);
@@ -66,33 +73,29 @@ std::array<BezierNet, 2> BezierNet::halve(int d) const {
   return out;
 }
 
-double BezierNet::extent(int d) const {
-  double best = 0.0;
-  const int n = order[static_cast<std::size_t>(d)];
-  const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-  for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
-    for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
-      std::array<int, 3> first{}, last{};
-      first[static_cast<std::size_t>(a)] = last[static_cast<std::size_t>(a)] = t;
-      first[static_cast<std::size_t>(b)] = last[static_cast<std::size_t>(b)] = s;
-      first[static_cast<std::size_t>(d)] = 0;
-      last[static_cast<std::size_t>(d)] = n - 1;
-      const H& p = at(first[0], first[1], first[2]);
-      const H& q = at(last[0], last[1], last[2]);
-      const Vec3 pe{p[0] / p[3], p[1] / p[3], p[2] / p[3]}, qe{q[0] / q[3], q[1] / q[3], q[2] / q[3]};
-      // Also the polygon length, so a closed or bent line still counts as long.
-      double poly = 0.0;
-      for (int i = 1; i < n; ++i) {
-        std::array<int, 3> c0 = first, c1 = first;
-        c0[static_cast<std::size_t>(d)] = i - 1;
-        c1[static_cast<std::size_t>(d)] = i;
-        const H& u = at(c0[0], c0[1], c0[2]);
-        const H& v = at(c1[0], c1[1], c1[2]);
-        poly += norm(Vec3{u[0] / u[3] - v[0] / v[3], u[1] / u[3] - v[1] / v[3], u[2] / u[3] - v[2] / v[3]});
+std::array<double, 3> BezierNet::extents() const {
+  // Euclidean points once, then the longest control polygon along each direction.
+  std::vector<Vec3> e(h.size());
+  for (std::size_t i = 0; i < h.size(); ++i) e[i] = {h[i][0] / h[i][3], h[i][1] / h[i][3], h[i][2] / h[i][3]};
+  const std::array<std::size_t, 3> stride = {1, static_cast<std::size_t>(order[0]),
+                                             static_cast<std::size_t>(order[0] * order[1])};
+  std::array<double, 3> out{};
+  for (int d = 0; d < 3; ++d) {
+    const auto dd = static_cast<std::size_t>(d);
+    const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
+      for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
+        const std::size_t first = static_cast<std::size_t>(t) * stride[static_cast<std::size_t>(a)] +
+                                  static_cast<std::size_t>(s) * stride[static_cast<std::size_t>(b)];
+        double poly = 0.0;
+        for (int i = 1; i < order[dd]; ++i) {
+          const std::size_t q = first + static_cast<std::size_t>(i) * stride[dd];
+          poly += norm(e[q] - e[q - stride[dd]]);
+        }
+        out[dd] = std::max(out[dd], poly);
       }
-      best = std::max({best, norm(qe - pe), poly});
-    }
-  return best;
+  }
+  return out;
 }
 
 bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi) const {
@@ -138,12 +141,12 @@ bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi) const {
   return true;
 }
 
-bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian) {
-  // A = inverse of the centre Jacobian (adjugate / det).
-  const Mat3& C = centre_jacobian;
+namespace {
+
+// A = inverse of C (adjugate / det); false when C is singular.
+bool invert3(const Mat3& C, Mat3& A) {
   const double det = C.determinant();
-  if (!(std::abs(det) > 0)) return false;
-  Mat3 A;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
       const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
@@ -152,11 +155,14 @@ bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre
            C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j2)] * C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j1)]) /
           det;
     }
-  double worst_row = 0.0;
-  for (int i = 0; i < 3; ++i) {
-    double row = 0.0;
+  return true;
+}
+
+// |I - A M| entrywise at its worst over the interval matrix M = [lo, hi].
+Mat3 contraction_bound(const Mat3& A, const Mat3& jac_lo, const Mat3& jac_hi) {
+  Mat3 out;
+  for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) {
-      // (A M)_ij as an interval, then |delta_ij - (A M)_ij| at its worst.
       Interval s{0.0, 0.0};
       for (int k = 0; k < 3; ++k) {
         const double a = A.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(k)];
@@ -166,11 +172,46 @@ bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre
         s.hi += std::max(a * l, a * h);
       }
       const double delta = i == j ? 1.0 : 0.0;
-      row += std::max(std::abs(delta - s.lo), std::abs(delta - s.hi));
+      out.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
+          std::max(std::abs(delta - s.lo), std::abs(delta - s.hi));
     }
-    worst_row = std::max(worst_row, row);
+  return out;
+}
+
+double max_row_sum(const Mat3& m) {
+  double worst = 0.0;
+  for (const auto& row : m.m) worst = std::max(worst, row[0] + row[1] + row[2]);
+  return worst;
+}
+
+}  // namespace
+
+bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian) {
+  Mat3 A;
+  if (!invert3(centre_jacobian, A)) return false;
+  return max_row_sum(contraction_bound(A, jac_lo, jac_hi)) < 1.0;
+}
+
+BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi,
+                            const Mat3& centre_jacobian, Vec3 centre_value, Vec3 x, double tolerance) {
+  Mat3 A;
+  if (!invert3(centre_jacobian, A)) return BoxVerdict::kUndecided;
+  const Mat3 m = contraction_bound(A, jac_lo, jac_hi);
+  const Vec3 c = box.center(), radius = 0.5 * box.size();
+  const Vec3 k = c - A * (centre_value - x);
+  for (int i = 0; i < 3; ++i) {
+    const auto r = static_cast<std::size_t>(i);
+    double e = 0.0;
+    for (int j = 0; j < 3; ++j) {
+      const auto col = static_cast<std::size_t>(j);
+      e += m.m[r][col] * radius[j] + std::abs(A.m[r][col]) * tolerance;
+    }
+    // Rounding in V(c), A and the sums above: a margin far above it, far below a box.
+    e += 1e-9 * (radius[i] + std::abs(c[i])) + 1e-9 * std::abs(k[i] - c[i]);
+    if (!std::isfinite(k[i]) || !std::isfinite(e)) return BoxVerdict::kUndecided;
+    if (k[i] + e < box.lo[i] || k[i] - e > box.hi[i]) return BoxVerdict::kNoRoot;
   }
-  return worst_row < 1.0;
+  return max_row_sum(m) < 1.0 ? BoxVerdict::kInjective : BoxVerdict::kUndecided;
 }
 
 }  // namespace trivox::detail

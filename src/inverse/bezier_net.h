@@ -24,12 +24,18 @@ struct BezierNet {
   // Box of the Euclidean control points: contains the image of the net's box.
   Box3 bounds() const;
 
+  // Largest dot(direction, P) over the Euclidean control points P. With the convex hull
+  // property, dot(direction, y) for every y in the image is at most this: a plane with
+  // this normal separates the image from any point beyond it.
+  double max_along(Vec3 direction) const;
+
   // Splits at the middle of direction d (de Casteljau at 1/2, exact in homogeneous form).
   std::array<BezierNet, 2> halve(int d) const;
 
-  // Euclidean length of the net along direction d (largest distance between the first and
-  // last control points of a line along d): the direction worth splitting first.
-  double extent(int d) const;
+  // Euclidean length of the net along each direction: the longest control polygon of a
+  // line along it (at least the chord, and long also for closed or bent lines), which says
+  // the direction worth splitting first.
+  std::array<double, 3> extents() const;
 
   // Conservative interval bounds of the Jacobian over the box: lo/hi of d x_r / d p_c.
   // Returns false when a weight interval reaches zero (cannot happen for valid input).
@@ -41,5 +47,16 @@ struct BezierNet {
 // satisfies ||I - A M||_inf < 1, so every M is invertible and V(a) - V(b) = M (a - b) != 0
 // for a != b (mean value theorem, row by row).
 bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian);
+
+// What Krawczyk's operator says about the roots of V(p) = x' in `box`, for every x' within
+// `tolerance` of x. With c the box centre, A the inverse of the centre Jacobian and J(box)
+// the interval Jacobian, every such root p satisfies (mean value theorem, row by row)
+//   p = c - A (V(c) - x') + (I - A M) (p - c)   for some M in J(box),
+// so p lies in K = c - A (V(c) - x) +- (|A| tolerance + |I - A J(box)| radius). When K misses
+// the box along some direction the box holds no root; otherwise, when ||I - A J(box)|| < 1,
+// the map is one-to-one on it (see injective_on_box).
+enum class BoxVerdict { kUndecided, kNoRoot, kInjective };
+BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi,
+                            const Mat3& centre_jacobian, Vec3 centre_value, Vec3 x, double tolerance);
 
 }  // namespace trivox::detail

@@ -1,6 +1,8 @@
 // Global inversion by subdivision (the role of the paper's multivariate solver [11]):
-// prune Bezier pieces whose control box misses x, prove one-to-one boxes with an interval
-// Jacobian test and run Newton there, split the rest, and classify what was found.
+// prune Bezier pieces whose control box misses x (or that a plane through x separates from
+// it), prune boxes where Krawczyk's operator excludes a root, prove one-to-one boxes with
+// the same interval Jacobian and run Newton there, split the rest, and classify what was
+// found.
 #include <algorithm>
 #include <cmath>
 #include <tuple>
@@ -67,7 +69,7 @@ GlobalSolver::~GlobalSolver() = default;
 GlobalSolver::GlobalSolver(GlobalSolver&&) noexcept = default;
 GlobalSolver& GlobalSolver::operator=(GlobalSolver&&) noexcept = default;
 
-GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params) const {
+GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::optional<Vec3> outward) const {
   GlobalResult result;
   const Volume& volume = *volume_;
   const ParamBox& dom = volume.domain();
@@ -76,6 +78,14 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params) const 
   const double box_tol = tol + 1e-12 * volume.bounds().diagonal();
   const Vec3 dom_size = dom.size();
   bool exhausted = false;
+  // The separating plane's unit normal and offset (a zero hint is ignored).
+  Vec3 normal{};
+  bool use_plane = false;
+  if (outward && norm(*outward) > 0 && std::isfinite(norm(*outward))) {
+    normal = (1.0 / norm(*outward)) * *outward;
+    use_plane = true;
+  }
+  const double plane = dot(normal, x) - box_tol;
 
   std::vector<Preimage> found;
   auto try_newton = [&](const ParamBox& box) {
@@ -104,6 +114,7 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params) const 
     stack.pop_back();
     const Box3 b = net.bounds();
     if (!b.contains(x, box_tol)) continue;
+    if (use_plane && net.max_along(normal) < plane) continue;
     if (++result.boxes_visited > params.max_boxes) {
       exhausted = true;
       break;
@@ -122,12 +133,15 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params) const 
       Vec3 p;
       Mat3 Jc;
       volume.evaluate_jacobian(net.box.center(), p, Jc);
-      if (detail::injective_on_box(lo, hi, Jc) && try_newton(net.box)) continue;  // its only root
+      const detail::BoxVerdict verdict = detail::krawczyk_verdict(net.box, lo, hi, Jc, p, x, box_tol);
+      if (verdict == detail::BoxVerdict::kNoRoot) continue;
+      if (verdict == detail::BoxVerdict::kInjective && try_newton(net.box)) continue;  // its only root
     }
     int split_dir = 0;
     double best = -1.0;
+    const std::array<double, 3> lengths = net.extents();
     for (int d = 0; d < 3; ++d) {
-      const double e = net.extent(d);
+      const double e = lengths[static_cast<std::size_t>(d)];
       if (e > best && psize[d] > 1e-12 * dom_size[d]) {
         best = e;
         split_dir = d;

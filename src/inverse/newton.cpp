@@ -119,6 +119,28 @@ InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 se
   return full;
 }
 
+std::optional<Vec3> outward_hint(const Volume& volume, Vec3 x, Vec3 uvw) noexcept {
+  const ParamBox& box = volume.domain();
+  const Vec3 size = box.size();
+  Vec3 p;
+  Mat3 J;
+  volume.evaluate_jacobian(uvw, p, J);
+  const Vec3 away = x - p;
+  int on_face = -1, faces = 0;
+  for (int d = 0; d < 3; ++d)
+    if (std::abs(uvw[d] - box.lo[d]) <= 1e-12 * size[d] || std::abs(uvw[d] - box.hi[d]) <= 1e-12 * size[d]) {
+      on_face = d;
+      ++faces;
+    }
+  Vec3 n = away;
+  if (faces == 1) {
+    n = cross(J.column((on_face + 1) % 3), J.column((on_face + 2) % 3));
+    if (dot(n, away) < 0) n = -1.0 * n;
+  }
+  if (!(norm(n) > 0) || !std::isfinite(norm(n))) return std::nullopt;
+  return n;
+}
+
 }  // namespace detail
 
 InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params) {

@@ -2,6 +2,8 @@
 // the global solver's leaf step.
 #pragma once
 
+#include <optional>
+
 #include "trivox/inverse/invert.h"
 
 namespace trivox::detail {
@@ -16,5 +18,11 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
 // next prediction). Every converged result meets the residual tolerance.
 InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian,
                             const InverseParams& params, Mat3& jacobian) noexcept;
+
+// For x that Newton found beyond a face of the domain, stopping at `uvw` on that face: the
+// face's normal at uvw turned towards x (the cross product of the two tangent columns of
+// J), or x - V(uvw) when uvw lies on an edge or corner. A hint for GlobalSolver::solve's
+// separating plane; nullopt when the direction vanishes.
+std::optional<Vec3> outward_hint(const Volume& volume, Vec3 x, Vec3 uvw) noexcept;
 
 }  // namespace trivox::detail

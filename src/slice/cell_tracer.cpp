@@ -1,6 +1,7 @@
 #include "cell_tracer.h"
 
 #include <algorithm>
+#include <optional>
 
 #include "inverse/newton.h"
 
@@ -55,6 +56,7 @@ bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
     if (col > 0 && prev_ok_[c - 1]) seeds[n++] = {&prev_uvw_[c - 1], &prev_jac_[c - 1], x + Vec3{-dx, dy, 0}};
     if (col + 1 < width && prev_ok_[c + 1]) seeds[n++] = {&prev_uvw_[c + 1], &prev_jac_[c + 1], x + Vec3{dx, dy, 0}};
   }
+  std::optional<Vec3> outward;
   for (int i = 0; i < n; ++i) {
     const InverseResult r =
         invert_traced(volume_, x, *seeds[i].uvw, seeds[i].x, *seeds[i].jac, params_.newton, cur_jac_[c]);
@@ -63,9 +65,15 @@ bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
       uvw = r.uvw;
       return true;
     }
+    if (r.status == InverseStatus::kOutside) {
+      // Newton from a neighbour walked off a face: the other neighbours would follow it
+      // there. The face's normal lets the global solver prove "outside" quickly.
+      outward = outward_hint(volume_, x, r.uvw);
+      break;
+    }
   }
   ++counters_.global_calls;
-  const GlobalResult g = solver_.solve(x, params_.global);
+  const GlobalResult g = solver_.solve(x, params_.global, outward);
   switch (g.status) {
     case GlobalStatus::kNone: return false;
     case GlobalStatus::kIncomplete:

@@ -9,6 +9,7 @@
 // Outside-the-volume is a result, not an error.
 #pragma once
 
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -100,7 +101,13 @@ class GlobalSolver {
   GlobalSolver(GlobalSolver&&) noexcept;
   GlobalSolver& operator=(GlobalSolver&&) noexcept;
 
-  GlobalResult solve(Vec3 x, const GlobalSolveParams& params = {}) const;
+  // `outward` (optional, any length): a direction along which x is believed to lie beyond
+  // the image, such as the normal of the face where a failed Newton run stopped. Boxes
+  // whose control points all lie below the plane through x with this normal are excluded
+  // as well as those whose bounding box misses x; both exclusions are exact, so only the
+  // work depends on the hint: points just outside a slanted face are then decided after a
+  // few subdivisions instead of many.
+  GlobalResult solve(Vec3 x, const GlobalSolveParams& params = {}, std::optional<Vec3> outward = {}) const;
 
  private:
   struct Impl;

@@ -1,0 +1,127 @@
+// The global solver's exclusion tests are exact: Krawczyk's "no root in this box" is checked
+// against a brute-force search, and the separating-plane hint may change the work but never
+// the preimages found.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "inverse/bezier_net.h"
+#include "inverse/newton.h"
+#include "support/test_support.h"
+#include "trivox/inverse/invert.h"
+#include "trivox/spline/refine.h"
+
+namespace trivox {
+namespace {
+
+Vec3 lerp(const ParamBox& b, Vec3 t) {
+  return {b.lo.x + t.x * b.size().x, b.lo.y + t.y * b.size().y, b.lo.z + t.z * b.size().z};
+}
+
+// The Bezier net of `volume` restricted to `box` (by knot insertion at the box's faces).
+detail::BezierNet net_on(const Volume& volume, const ParamBox& box) {
+  const double lo[3] = {box.lo.x, box.lo.y, box.lo.z}, hi[3] = {box.hi.x, box.hi.y, box.hi.z};
+  const std::vector<TensorSpline> patches = bezier_patches(restrict_to(volume.spline(), lo, hi));
+  EXPECT_EQ(patches.size(), 1u);
+  const TensorSpline& p = patches.front();
+  detail::BezierNet net;
+  net.box = box;
+  for (int d = 0; d < 3; ++d) net.order[static_cast<std::size_t>(d)] = p.knots(d).order();
+  net.h.resize(static_cast<std::size_t>(p.total_ctrl()));
+  for (int k = 0; k < p.num_ctrl(2); ++k)
+    for (int j = 0; j < p.num_ctrl(1); ++j)
+      for (int i = 0; i < p.num_ctrl(0); ++i) {
+        const auto q = p.point(i, j, k);
+        const double w = p.weight(i, j, k);
+        net.at(i, j, k) = {w * q[0], w * q[1], w * q[2], w};
+      }
+  return net;
+}
+
+TEST(Exclusion, KrawczykNoRootMeansNoPointOfTheBoxMapsNearX) {
+  // A single-piece quadratic volume (bent and twisted), so that sub-boxes are easy to cut.
+  const Volume v = test::twisted_bent_box(3, 2, 1, 3, 3);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(0.0, 1.0), S(0.02, 0.3);
+  int excluded = 0, injective = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Vec3 lo{U(rng) * 0.7, U(rng) * 0.7, U(rng) * 0.7};
+    const ParamBox box{lo, lo + Vec3{S(rng), S(rng), S(rng)}};
+    const detail::BezierNet net = net_on(v, box);
+    Mat3 jlo, jhi;
+    ASSERT_TRUE(net.jacobian_bounds(jlo, jhi));
+    Vec3 c;
+    Mat3 Jc;
+    v.evaluate_jacobian(box.center(), c, Jc);
+    // x near the box's image: the image of a point of a slightly larger box, moved a little.
+    // Half the time x is the image of a point just inside or outside the box (the hard case:
+    // a root near a face), otherwise that image moved off a little.
+    const Vec3 t{U(rng) * 1.2 - 0.1, U(rng) * 1.2 - 0.1, U(rng) * 1.2 - 0.1};
+    const double off = trial % 2 ? 0.0 : 0.01;
+    const Vec3 x = v.evaluate(lerp(box, t)) + Vec3{off * (U(rng) - 0.5), off * (U(rng) - 0.5), 0.0};
+    const double tol = 1e-8;
+    const detail::BoxVerdict verdict = detail::krawczyk_verdict(box, jlo, jhi, Jc, c, x, tol);
+    if (verdict == detail::BoxVerdict::kInjective) ++injective;
+    if (verdict != detail::BoxVerdict::kNoRoot) continue;
+    ++excluded;
+    // Brute force: Newton restricted to the box from a 4^3 grid of starts, and the closest
+    // sample of a 12^3 grid; neither may come within the tolerance of x.
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b)
+        for (int d = 0; d < 4; ++d) {
+          const InverseResult r = detail::newton_in_box(v, x, lerp(box, {(a + 0.5) / 4, (b + 0.5) / 4, (d + 0.5) / 4}), box, {});
+          EXPECT_NE(r.status, InverseStatus::kConverged) << "trial " << trial;
+        }
+    double closest = HUGE_VAL;
+    for (int a = 0; a <= 12; ++a)
+      for (int b = 0; b <= 12; ++b)
+        for (int d = 0; d <= 12; ++d) closest = std::min(closest, norm(v.evaluate(lerp(box, {a / 12.0, b / 12.0, d / 12.0})) - x));
+    EXPECT_GT(closest, tol);
+  }
+  // The sample is informative: both verdicts occur.
+  EXPECT_GT(excluded, 20);
+  EXPECT_GT(injective, 20);
+}
+
+TEST(Exclusion, OutwardHintNeverChangesThePreimages) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 1.0), D(-1.0, 1.0);
+  const Volume v = test::twisted_bent_box(40, 30, 60);
+  const GlobalSolver solver(v);
+  int hinted_outside = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // Points near a random face, inside or outside by up to 0.05 mm, with the face's normal
+    // as the hint (and, every third time, a deliberately wrong direction).
+    const int face = trial % 3;
+    Vec3 t{U(rng), U(rng), U(rng)};
+    t[face] = trial % 2 ? 1.0 : 0.0;
+    Vec3 p;
+    Mat3 J;
+    v.evaluate_jacobian(t, p, J);
+    Vec3 n = cross(J.column((face + 1) % 3), J.column((face + 2) % 3));
+    if (dot(n, J.column(face)) * (t[face] > 0.5 ? 1 : -1) < 0) n = -1.0 * n;
+    n = (1.0 / norm(n)) * n;
+    const Vec3 x = p + 0.05 * D(rng) * n;
+    const Vec3 hint = trial % 3 == 2 ? Vec3{D(rng), D(rng), D(rng)} : n;
+    const GlobalResult plain = solver.solve(x), hinted = solver.solve(x, {}, hint);
+    ASSERT_EQ(plain.status, hinted.status) << "trial " << trial;
+    ASSERT_EQ(plain.preimages.size(), hinted.preimages.size());
+    for (std::size_t i = 0; i < plain.preimages.size(); ++i)
+      for (int d = 0; d < 3; ++d) EXPECT_NEAR(plain.preimages[i].uvw[d], hinted.preimages[i].uvw[d], 1e-9);
+    if (plain.status == GlobalStatus::kNone) {
+      ++hinted_outside;
+      // The hint Newton would give for such a point points the same way as the true normal.
+      const InverseResult r = invert(v, x, t);
+      if (r.status == InverseStatus::kOutside) {
+        const auto h = detail::outward_hint(v, x, r.uvw);
+        ASSERT_TRUE(h.has_value());
+        EXPECT_GT(dot(*h, n), 0.0);
+      }
+    }
+  }
+  EXPECT_GT(hinted_outside, 30);
+}
+
+}  // namespace
+}  // namespace trivox
