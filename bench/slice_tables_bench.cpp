@@ -4,12 +4,13 @@
 // filling a box of 128 x 128 x 88 mm, with the porous-tiles material, at 600 x 300 dpi and
 // 30 um layers (Stratasys J750, the paper's settings).
 //
-//   slice_tables_bench [--layers N] [--table1-scale S] [--table2-only]
+//   slice_tables_bench [--layers N] [--table1-scale S] [--table2-only] [--tolerance-mm T]
 // --layers N: Table 2 slices N layers spread evenly over the height (default 9) and reports
 //             per-layer figures and the projected total for all layers.
 // --table1-scale S: Table 1 runs on the same model scaled by S (default 0.25) so that the
 //             "none" row (a global solve per pixel) finishes in seconds.
 // --table2-only: skip Table 1 (for profiling the production path alone).
+// --tolerance-mm T: Table 2's residual tolerance (default: the slicer's default).
 #include <chrono>
 #include <cstring>
 #include <memory>
@@ -65,6 +66,7 @@ int main(int argc, char** argv) {
   const double t1_scale = arg_double(argc, argv, "--table1-scale", 0.25);
 
   const bool table1 = !has_flag(argc, argv, "--table2-only");
+  const double tolerance_mm = arg_double(argc, argv, "--tolerance-mm", SliceParams{}.newton.residual_tolerance_model);
 
   // Table 1: one middle layer, each strategy, single thread.
   if (table1) {
@@ -87,7 +89,9 @@ int main(int argc, char** argv) {
   {
     const Scene scene = duck_class_scene(1.0);
     const auto setup_start = std::chrono::steady_clock::now();
-    const Slicer slicer(scene, {});
+    SliceParams table2_params;
+    table2_params.newton.residual_tolerance_model = tolerance_mm;
+    const Slicer slicer(scene, table2_params);
     const double setup = std::chrono::duration<double>(std::chrono::steady_clock::now() - setup_start).count();
     const SliceLayout& L = slicer.layout();
     // The Voxel Print writer as a job uses it (PNG encoding, fsync, rename), into a scratch folder.

@@ -25,6 +25,7 @@ struct SliceOptions {
   int threads = 0;
   std::string layers;
   std::string tracing = "full";
+  double residual_tolerance_mm = SliceParams{}.newton.residual_tolerance_model;
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
   std::vector<int> background{255, 255, 255, 255};
@@ -79,6 +80,7 @@ void run(const SliceOptions& o) {
   const auto strategy = parse_tracing_strategy(o.tracing);
   if (!strategy) throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line or full, got '{}'", o.tracing));
   params.tracing = *strategy;
+  params.newton.residual_tolerance_model = o.residual_tolerance_mm;
   JobParams job;
   job.output_dir = o.output;
   job.threads = o.threads;
@@ -126,6 +128,10 @@ void add_slice_command(CLI::App& app) {
   cmd->add_option("-j,--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--layers", opts->layers, "Only layers FIRST:LAST (1-based, inclusive)");
   cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full")
+      ->capture_default_str();
+  cmd->add_option("--residual-tolerance", opts->residual_tolerance_mm,
+                  "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
+      ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_option("--format", opts->formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
       ->delimiter(',')

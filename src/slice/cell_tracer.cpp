@@ -38,6 +38,20 @@ void CellTracer::begin_layer(double z_mm) {
 bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw) {
   const auto c = static_cast<std::size_t>(col);
   const int width = static_cast<int>(cur_ok_.size());
+  // Along a row the inverse map is smooth: the quadratic through the last three solutions
+  // predicts this one to O(pitch^3), usually within the residual tolerance, so a single
+  // value-only evaluation settles the pixel. Otherwise Newton from the neighbours decides.
+  if (params_.tracing != TracingStrategy::kNone && col >= 3 && cur_ok_[c - 1] && cur_ok_[c - 2] && cur_ok_[c - 3]) {
+    const Vec3 guess = 3.0 * (cur_uvw_[c - 1] - cur_uvw_[c - 2]) + cur_uvw_[c - 3];
+    if (volume_.domain().contains(guess)) {
+      ++counters_.newton_evals;
+      if (norm(x - volume_.evaluate(guess)) <= params_.newton.residual_tolerance_model) {
+        uvw = guess;
+        cur_jac_[c] = cur_jac_[c - 1];  // still a good predictor for the next row
+        return true;
+      }
+    }
+  }
   // Seeds in the order the strategy allows (Table 1 of the paper): the neighbour's solution,
   // Jacobian and pixel centre.
   struct Seed {
