@@ -15,6 +15,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -72,20 +73,31 @@ int main(int argc, char** argv) {
   if (table1) {
     const Scene scene = duck_class_scene(t1_scale);
     fmt::print("Table 1 (model scaled by {}; middle layer; one thread)\n\n", t1_scale);
-    fmt::print("| tracing | time [s] | global solves [% of inside voxels] | inside voxels |\n|---|---|---|---|\n");
+    fmt::print(
+        "| tracing | time [s] | time / previous-point | global solves [% of inside voxels] | evaluations per inside voxel | inside voxels |\n"
+        "|---|---|---|---|---|---|\n");
+    struct Row {
+      TracingStrategy tracing;
+      LayerStats stats;
+    };
+    std::vector<Row> rows;
     for (TracingStrategy t : {TracingStrategy::kNone, TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine,
-                              TracingStrategy::kFull}) {
+                              TracingStrategy::kFull, TracingStrategy::kPredict, TracingStrategy::kFlood}) {
       SliceParams p;
       p.tracing = t;
       const Slicer slicer(scene, p);
-      const LayerResult r = slicer.slice_layer(slicer.layout().num_layers / 2);
-      fmt::print("| {} | {:.3f} | {:.4f} | {} |\n", to_string(t), r.stats.seconds,
-                 100.0 * static_cast<double>(r.stats.global_calls) / static_cast<double>(r.stats.pixels_inside),
-                 r.stats.pixels_inside);
+      rows.push_back({t, slicer.slice_layer(slicer.layout().num_layers / 2).stats});
+    }
+    const double previous_point = rows[1].stats.seconds;
+    for (const Row& r : rows) {
+      const auto inside = static_cast<double>(r.stats.pixels_inside);
+      fmt::print("| {} | {:.3f} | {:.2f} | {:.4f} | {:.2f} | {} |\n", to_string(r.tracing), r.stats.seconds,
+                 r.stats.seconds / previous_point, 100.0 * static_cast<double>(r.stats.global_calls) / inside,
+                 static_cast<double>(r.stats.newton_evals) / inside, r.stats.pixels_inside);
     }
   }
 
-  // Table 2: full size, sampled layers, single thread, full tracing.
+  // Table 2: full size, sampled layers, single thread, the default tracing.
   {
     const Scene scene = duck_class_scene(1.0);
     const auto setup_start = std::chrono::steady_clock::now();
@@ -127,7 +139,8 @@ int main(int argc, char** argv) {
     const double per_layer = sum.seconds / layers;
     const double inside_per_layer = static_cast<double>(sum.pixels_inside) / layers;
     const double ns = 1e9 / static_cast<double>(sum.pixels_inside);
-    fmt::print("\nTable 2 (full size; {} layers sampled evenly; one thread; full tracing; PNG writing included)\n\n", layers);
+    fmt::print("\nTable 2 (full size; {} layers sampled evenly; one thread; {} tracing; PNG writing included)\n\n", layers,
+               to_string(table2_params.tracing));
     fmt::print("| bitmap | layers | voxels total, inside [x1e9] (projected) | time per layer [s] | total, 1 thread [h] (projected) | global solves [%] |\n|---|---|---|---|---|---|\n");
     fmt::print("| {} x {} | {} | {:.2f}, {:.2f} | {:.3f} | {:.3f} | {:.4f} |\n", L.width_px, L.height_px, L.num_layers,
                static_cast<double>(L.width_px) * L.height_px * L.num_layers / 1e9, inside_per_layer * L.num_layers / 1e9,

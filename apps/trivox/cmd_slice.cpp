@@ -24,7 +24,7 @@ struct SliceOptions {
   std::string output;
   int threads = 0;
   std::string layers;
-  std::string tracing = "full";
+  std::string tracing = std::string(to_string(SliceParams{}.tracing));
   double residual_tolerance_mm = SliceParams{}.newton.residual_tolerance_model;
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
@@ -78,7 +78,7 @@ void parse_layers(const std::string& text, JobParams& p) {
 void run(const SliceOptions& o) {
   SliceParams params;
   const auto strategy = parse_tracing_strategy(o.tracing);
-  if (!strategy) throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line or full, got '{}'", o.tracing));
+  if (!strategy) throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line, full, predict or flood, got '{}'", o.tracing));
   params.tracing = *strategy;
   params.newton.residual_tolerance_model = o.residual_tolerance_mm;
   JobParams job;
@@ -127,7 +127,7 @@ void add_slice_command(CLI::App& app) {
   cmd->add_option("-o,--output", opts->output, "Output folder (created if missing)")->required();
   cmd->add_option("-j,--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
   cmd->add_option("--layers", opts->layers, "Only layers FIRST:LAST (1-based, inclusive)");
-  cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full")
+  cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full (the paper's), predict, flood")
       ->capture_default_str();
   cmd->add_option("--residual-tolerance", opts->residual_tolerance_mm,
                   "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")

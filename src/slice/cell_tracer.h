@@ -43,19 +43,24 @@ class CellTracer {
   const TraceCounters& counters() const noexcept { return counters_; }
 
  private:
-  bool solve_pixel(Vec3 x, int col, Vec3& uvw);
+  // Solves one pixel: `uvw` is its answer (within the residual tolerance), `seed_uvw` what
+  // later pixels start from (the answer, or a refinement of it that was not re-evaluated).
+  bool solve_pixel(Vec3 x, int col, Vec3& uvw, Vec3& seed_uvw);
 
   const Volume& volume_;
   const GlobalSolver& solver_;
   const SliceParams& params_;
   double z_mm_ = 0;
   int last_row_ = -2;
-  // Solutions of the current and previous rows (solved flag per column).
+  // Seeds from the current and previous rows (solved flag per column).
   std::vector<Vec3> cur_uvw_, prev_uvw_;
   std::vector<Mat3> cur_jac_, prev_jac_;  // Jacobians near the solutions, for prediction
   double pitch_x_ = 0, pitch_y_ = 0;  // mm, from the layout
   std::vector<std::uint8_t> cur_ok_, prev_ok_;
   TraceCounters counters_;
+  // Row extrapolation resumes at this column after a failed guess.
+  static constexpr int kPredictionBackoff = 8;
+  int retry_prediction_at_ = 0;
 };
 
 }  // namespace trivox::detail

@@ -14,13 +14,15 @@ std::string_view to_string(TracingStrategy s) noexcept {
     case TracingStrategy::kPreviousPoint: return "previous-point";
     case TracingStrategy::kPreviousLine: return "previous-line";
     case TracingStrategy::kFull: return "full";
+    case TracingStrategy::kPredict: return "predict";
+    case TracingStrategy::kFlood: return "flood";
   }
   return "unknown";
 }
 
 std::optional<TracingStrategy> parse_tracing_strategy(std::string_view name) noexcept {
   for (TracingStrategy s : {TracingStrategy::kNone, TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine,
-                            TracingStrategy::kFull})
+                            TracingStrategy::kFull, TracingStrategy::kPredict, TracingStrategy::kFlood})
     if (name == to_string(s)) return s;
   return std::nullopt;
 }

@@ -25,7 +25,8 @@ TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
   L.height_px = static_cast<int>((L.y_top_mm - v.bounds().lo.y) / L.pitch_y_mm) + 3;
   const double z = 0.5 * (v.bounds().lo.z + v.bounds().hi.z);
 
-  for (TracingStrategy strategy : {TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine, TracingStrategy::kFull}) {
+  for (TracingStrategy strategy : {TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine, TracingStrategy::kFull,
+                                   TracingStrategy::kPredict, TracingStrategy::kFlood}) {
     SliceParams params;
     params.tracing = strategy;
     detail::CellTracer tracer(v, solver, params, L.width_px);

@@ -110,7 +110,7 @@ TEST(Slicer, TracingStrategiesReduceGlobalSolvesAsInTable1) {
   std::vector<double> share;
   std::int64_t inside = -1;
   for (TracingStrategy s : {TracingStrategy::kNone, TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine,
-                            TracingStrategy::kFull}) {
+                            TracingStrategy::kFull, TracingStrategy::kPredict, TracingStrategy::kFlood}) {
     SliceParams p;
     p.tracing = s;
     const Slicer slicer(scene, p);
@@ -124,6 +124,10 @@ TEST(Slicer, TracingStrategiesReduceGlobalSolvesAsInTable1) {
   EXPECT_LT(share[2], share[1]);
   EXPECT_LE(share[3], share[2]);
   EXPECT_LT(share[3], 0.02);
+  // trivox's own strategies: the row predictor changes the work, not the seeds' reach; the
+  // flood seeds reach spans the 8-neighbours cannot.
+  EXPECT_LE(share[4], share[3] * 1.01);
+  EXPECT_LT(share[5], share[4]);
 }
 
 TEST(Slicer, LastCellWithMaterialWins) {

@@ -9,20 +9,27 @@
 
 namespace trivox {
 
-// How a pixel's inverse is seeded (the paper's Table 1). Each strategy falls back to the
-// global solver when Newton from its seeds does not converge.
+// How a pixel's inverse is seeded. The first four are the paper's Table 1; the last two add
+// predictors of trivox's own. Each strategy falls back to the global solver when Newton from
+// its seeds does not converge.
 enum class TracingStrategy {
   kNone,           // global solve for every pixel
   kPreviousPoint,  // the previous pixel of the row
   kPreviousLine,   // the previous pixel of the row, else the pixel above
   kFull,           // any already solved 8-neighbour (left, up-left, up, up-right)
+  kPredict,        // full, but first the quadratic through the row's last three solutions,
+                   // checked with one evaluation
+  kFlood,          // predict, then the nearest solved pixel of this row or the row above
+                   // (within 64 pixels) before the global solver: a span that starts where
+                   // the row above had no solved neighbour is reached from inside the cell
 };
 std::string_view to_string(TracingStrategy s) noexcept;
-// Parses "none", "previous-point", "previous-line", "full"; nullopt otherwise.
+// Parses "none", "previous-point", "previous-line", "full", "predict", "flood"; nullopt
+// otherwise.
 std::optional<TracingStrategy> parse_tracing_strategy(std::string_view name) noexcept;
 
 struct SliceParams {
-  TracingStrategy tracing = TracingStrategy::kFull;
+  TracingStrategy tracing = TracingStrategy::kFlood;
   // Every inside pixel's (u, v, w) satisfies |V(u,v,w) - pixel centre| <= this residual
   // tolerance. The slicer's default is 1e-6 mm, a nanometre: 40000 times below the 600 dpi
   // pitch, so it moves a voxel's material only when the voxel centre lies within about a
