@@ -19,48 +19,13 @@
 
 #include <fmt/format.h>
 
-#include "support/test_support.h"
-#include "trivox/material/porous_tiles_material.h"
+#include "bench_support.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/printer/printer_profile.h"
 #include "trivox/slice/slicer.h"
 
-namespace {
-
 using namespace trivox;
-
-Scene duck_class_scene(double scale) {
-  Scene s;
-  s.source = "duck-class benchmark";
-  s.printer = builtin_printer_profile("j750-paper");
-  s.materials = {{"green", {40, 170, 60, 255}}, {"blue", {30, 80, 200, 255}}};
-  Volume v = test::twisted_bent_box(128 * scale, 128 * scale, 88 * scale, 8, 4);
-  PorousTilesParams tiles;
-  tiles.tiles = {6, 6, 4};
-  tiles.radius = 0.3;
-  auto material = std::make_shared<PorousTilesMaterial>(tiles, 2, v.domain());
-  s.cells.push_back(Cell{"duck-class", "/cells/0", std::move(v), material});
-  return s;
-}
-
-int arg_int(int argc, char** argv, const char* name, int fallback) {
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0) return std::stoi(argv[i + 1]);
-  return fallback;
-}
-double arg_double(int argc, char** argv, const char* name, double fallback) {
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0) return std::stod(argv[i + 1]);
-  return fallback;
-}
-
-}  // namespace
-
-bool has_flag(int argc, char** argv, const char* name) {
-  for (int i = 1; i < argc; ++i)
-    if (std::strcmp(argv[i], name) == 0) return true;
-  return false;
-}
+using namespace trivox::bench;
 
 int main(int argc, char** argv) {
   const int layers = arg_int(argc, argv, "--layers", 9);
