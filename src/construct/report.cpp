@@ -61,7 +61,6 @@ std::string ConstructionReport::describe() const {
   if (zero.samples > 0)
     s += fmt::format("{} det J = 0 at {} of {} samples, in {}", minority_sign.samples > 0 ? ";" : ":", zero.samples,
                      total, box_text(zero.box));
-  if (!exact) s += fmt::format(" (approximate construction: deviation up to {:.3g} mm)", approximation_error_mm);
   return s;
 }
 

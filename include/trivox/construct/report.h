@@ -32,7 +32,7 @@ struct ConstructionReport {
   double approximation_error_mm = 0.0;
 
   bool folds() const noexcept { return jacobian.classification == JacobianClass::kFolded; }
-  // One line: the classification, and where the volume folds or degenerates, e.g.
+  // One line: the Jacobian's classification, and where the volume folds or degenerates, e.g.
   // "folded: det J < 0 at 12 of 729 samples, in u [0.5, 1] v [0, 1] w [0.25, 0.5]".
   std::string describe() const;
 };
