@@ -130,4 +130,114 @@ Constructed coons(const std::array<TensorSpline, 6>& faces, const CoonsParams& p
   return detail::finish("coons", std::move(v), params.check);
 }
 
+namespace {
+
+// The corner of a clamped surface at (a, b) in {0, 1}^2.
+Vec3 corner(const TensorSpline& s, int a, int b) {
+  return detail::to_vec3(s.point(a ? s.num_ctrl(0) - 1 : 0, b ? s.num_ctrl(1) - 1 : 0));
+}
+
+}  // namespace
+
+std::array<TensorSpline, 6> arrange_cube_faces(const std::vector<TensorSpline>& surfaces, double tolerance_relative) {
+  if (surfaces.size() != 6)
+    throw ModelError(fmt::format("a shell of cube topology has 6 faces, not {}", surfaces.size()));
+  std::vector<TensorSpline> f;
+  Box3 box;
+  for (std::size_t i = 0; i < 6; ++i) {
+    f.push_back(detail::checked_surface(surfaces[i], fmt::format("face {} of the shell", i)));
+    box.expand(f.back().control_box());
+  }
+  const double tol = tolerance_relative * std::max(box.diagonal(), 1e-300);
+  // Vertices: the corners, merged within the tolerance.
+  std::vector<Vec3> vertices;
+  const auto vertex_of = [&](Vec3 p) {
+    for (std::size_t v = 0; v < vertices.size(); ++v)
+      if (norm(vertices[v] - p) <= tol) return static_cast<int>(v);
+    vertices.push_back(p);
+    return static_cast<int>(vertices.size()) - 1;
+  };
+  std::vector<std::array<int, 4>> ids;  // per face: corners (0,0), (1,0), (0,1), (1,1)
+  for (std::size_t i = 0; i < 6; ++i) {
+    std::array<int, 4> c{};
+    for (int q = 0; q < 4; ++q) c[static_cast<std::size_t>(q)] = vertex_of(corner(f[i], q & 1, q >> 1));
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b)
+        if (c[static_cast<std::size_t>(a)] == c[static_cast<std::size_t>(b)])
+          throw ModelError(fmt::format("face {} of the shell has two corners at the same point: not a cube face", i));
+    ids.push_back(c);
+  }
+  if (vertices.size() != 8)
+    throw ModelError(fmt::format("the corners of the six faces make {} distinct points, not the 8 of a cube", vertices.size()));
+  // Edges of the vertex graph, from the faces' sides.
+  std::vector<std::array<bool, 8>> adjacent(8);
+  for (const auto& c : ids)
+    for (const auto& [a, b] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 3}, std::pair{2, 3}}) {
+      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])][static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] = true;
+      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])][static_cast<std::size_t>(c[static_cast<std::size_t>(a)])] = true;
+    }
+  // Volume corner (i, j, k) -> vertex: face 0 is w = 0, each of its corners' one neighbour
+  // off face 0 is the corner above it.
+  std::array<int, 8> at{};  // index i + 2 j + 4 k
+  for (int q = 0; q < 4; ++q) {
+    const int v = ids[0][static_cast<std::size_t>(q)];
+    at[static_cast<std::size_t>(q)] = v;
+    int above = -1;
+    for (int w = 0; w < 8; ++w)
+      if (adjacent[static_cast<std::size_t>(v)][static_cast<std::size_t>(w)] &&
+          std::find(ids[0].begin(), ids[0].end(), w) == ids[0].end()) {
+        if (above >= 0) throw ModelError("the six faces do not meet like the faces of a cube (a corner has more than 3 edges)");
+        above = w;
+      }
+    if (above < 0) throw ModelError("the six faces do not meet like the faces of a cube (a corner of the first face has no edge off it)");
+    at[static_cast<std::size_t>(q + 4)] = above;
+  }
+  std::array<TensorSpline, 6> out{f[0], f[0], f[0], f[0], f[0], f[0]};
+  std::array<bool, 6> used{true, false, false, false, false, false};
+  for (int face = 0; face < 6; ++face) {
+    const int d = face / 2, side = face % 2;
+    const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+    std::array<int, 4> want{};
+    for (int q = 0; q < 4; ++q) {
+      std::array<int, 3> ijk{};
+      ijk[static_cast<std::size_t>(d)] = side;
+      ijk[static_cast<std::size_t>(a)] = q & 1;
+      ijk[static_cast<std::size_t>(b)] = q >> 1;
+      want[static_cast<std::size_t>(q)] = at[static_cast<std::size_t>(ijk[0] + 2 * ijk[1] + 4 * ijk[2])];
+    }
+    bool found = false;
+    for (std::size_t i = 0; i < 6 && !found; ++i) {
+      if (face != kFaceW0 && used[i]) continue;
+      if (face == kFaceW0 && i != 0) continue;
+      // The 8 ways to lay a square's parameters on it: swap, then reverse either direction.
+      for (int t = 0; t < 8 && !found; ++t) {
+        const bool swap = t & 4, rev0 = t & 1, rev1 = t & 2;
+        std::array<int, 4> got{};
+        for (int q = 0; q < 4; ++q) {
+          int s0 = q & 1, s1 = q >> 1;  // the arranged face's corner (s0, s1)
+          if (rev0) s0 = 1 - s0;
+          if (rev1) s1 = 1 - s1;
+          const int p0 = swap ? s1 : s0, p1 = swap ? s0 : s1;  // the input face's corner
+          got[static_cast<std::size_t>(q)] = ids[i][static_cast<std::size_t>(p0 + 2 * p1)];
+        }
+        if (got != want) continue;
+        TensorSpline s = f[i];
+        if (swap) {
+          const std::array<int, 2> order{1, 0};
+          s = permuted(s, order);
+        }
+        if (rev0) s = reversed(s, 0);
+        if (rev1) s = reversed(s, 1);
+        out[static_cast<std::size_t>(face)] = std::move(s);
+        used[i] = true;
+        found = true;
+      }
+    }
+    if (!found)
+      throw ModelError(fmt::format("no face of the shell has the corners of the Coons face {}: the faces do not meet like "
+                                   "the faces of a cube", coons_face_name(face)));
+  }
+  return out;
+}
+
 }  // namespace trivox

@@ -54,6 +54,25 @@ void expect_keys(const JsonView& node, std::initializer_list<std::string_view> o
 
 const char* const kSurface = "surface";
 
+// The six faces of a closed shell in any order: an array of six surfaces, or {"file": F}, all
+// the surfaces of a model file.
+std::vector<TensorSpline> parse_shell_faces(const JsonView& node, SceneContext& ctx) {
+  std::vector<TensorSpline> out;
+  if (node.is_array()) {
+    for (const JsonView& e : node.elements(6, 6)) out.push_back(parse_curve_or_surface(e, ctx, 2));
+    return out;
+  }
+  if (!node.is_object())
+    node.fail(fmt::format("expected an array of six surfaces or {{\"file\": ...}}, got {}", JsonView::describe(node.json())));
+  node.expect_object({"file"});
+  const JsonView file = node.at("file");
+  for (const Patch& p : ctx.model(file).patches)
+    if (p.spline.param_dim() == 2) out.push_back(p.spline);
+  if (out.size() != 6)
+    file.fail(fmt::format("the file \"{}\" holds {} surfaces; a shell of cube topology has 6", file.string(), out.size()));
+  return out;
+}
+
 template <class Build>
 Constructed run(const JsonView& node, Build build) {
   try {
@@ -109,12 +128,19 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     return run(c, [&] { return sweep(section, path, p); });
   }
   if (kind == "coons") {
-    expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1"});
+    expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces"});
+    CoonsParams p;
+    p.check = check;
+    if (const auto all = c.find("faces")) {
+      for (int i = 0; i < 6; ++i)
+        if (c.find(coons_face_name(i)))
+          c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
+      const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
+      return run(c, [&] { return coons(arrange_cube_faces(shell), p); });
+    }
     std::vector<TensorSpline> f;
     for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
     const std::array<TensorSpline, 6> faces{f[0], f[1], f[2], f[3], f[4], f[5]};
-    CoonsParams p;
-    p.check = check;
     return run(c, [&] { return coons(faces, p); });
   }
   expect_keys(c, {kSurface, "thickness_mm", "side", "knots_per_span"});

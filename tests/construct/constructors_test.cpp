@@ -13,6 +13,7 @@
 #include "trivox/construct/shell.h"
 #include "trivox/construct/sweep.h"
 #include "trivox/error.h"
+#include "trivox/io/model.h"
 #include "trivox/spline/refine.h"
 #include "trivox/spline/respace.h"
 
@@ -275,6 +276,51 @@ TEST(Construct, ShellOfACylinderIsExactAndOfABumpySurfaceClose) {
     const auto t = random_params(b.volume.spline(), rng);
     EXPECT_LE(norm(b.volume.evaluate({t[0], t[1], 0}) - eval3(bumpy, {t[0], t[1], 0})), 1e-10);  // the domain is kept
   }
+}
+
+TEST(Construct, ShellFacesInAnyOrderAndOrientationAreArranged) {
+  std::mt19937 rng(9);
+  const std::array<TensorSpline, 6> faces = faces_of(test::twisted_bent_box(20, 10, 15, 5, 3).spline());
+  // Shuffled, with parameters swapped and reversed.
+  const std::array<int, 2> swap{1, 0};
+  const std::vector<TensorSpline> shell = {faces[kFaceV1], reversed(faces[kFaceU0], 1), permuted(faces[kFaceW1], swap),
+                                           faces[kFaceW0], reversed(permuted(faces[kFaceU1], swap), 0), faces[kFaceV0]};
+  const std::array<TensorSpline, 6> arranged = arrange_cube_faces(shell);
+  const Constructed c = coons(arranged);
+  expect_interpolates_faces(c.volume, arranged, rng, 1e-11 * 40);
+  EXPECT_NE(c.report.jacobian.classification, JacobianClass::kFolded);
+  // Every input face is one of the volume's faces: its centre is on the boundary.
+  for (const TensorSpline& f : shell) {
+    const Vec3 centre = eval3(f, {0.5, 0.5, 0});
+    double best = 1e300;
+    for (int face = 0; face < 6; ++face) {
+      Vec3 uvw{0.5, 0.5, 0.5};
+      uvw[face / 2] = face % 2;
+      best = std::min(best, norm(c.volume.evaluate(uvw) - centre));
+    }
+    EXPECT_LE(best, 1e-10);
+  }
+  std::vector<TensorSpline> five(shell.begin(), shell.end() - 1);
+  EXPECT_THROW(arrange_cube_faces(five), ModelError);
+  std::vector<TensorSpline> moved = shell;
+  moved[2] = moved[2].transformed([](std::span<double> p) { p[0] += 3; });
+  EXPECT_THROW(arrange_cube_faces(moved), ModelError);
+}
+
+TEST(Construct, CoonsVolumeOfTheDuckShell) {
+  const auto dir = test::shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const Model duck = read_model(dir / "surfaces" / "duck_brep.xml");
+  std::vector<TensorSpline> shell;
+  for (const Patch& p : duck.patches) shell.push_back(p.spline);
+  const std::array<TensorSpline, 6> faces = arrange_cube_faces(shell);
+  const Constructed c = coons(faces);
+  std::mt19937 rng(10);
+  expect_interpolates_faces(c.volume, faces, rng, 1e-12);
+  // The duck is far from convex: its Coons volume folds (det J takes both signs), and the
+  // report places the minority sign.
+  const JacobianReport& j = c.report.jacobian;
+  EXPECT_EQ(c.report.minority_sign.samples, std::min(j.positive, j.negative));
 }
 
 // A square section 2 x 2 mm around the local origin.

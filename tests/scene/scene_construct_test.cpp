@@ -10,6 +10,7 @@
 
 #include "construct/construct_fixtures.h"
 #include "scene/scene_test_util.h"
+#include "support/test_support.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
 #include "trivox/construct/revolve.h"
@@ -202,6 +203,37 @@ TEST(SceneConstruct, SchemaAgreesWithTheReader) {
       EXPECT_NE(std::string(e.what()).find("the keys allowed here are " + expected), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(SceneConstruct, CoonsFacesInAnyOrder) {
+  const auto plate = [](auto f) { return inline_spline(test::bilinear_plate(f)); };
+  // The faces of a 1 x 2 x 3 box, shuffled and with some parameters swapped.
+  const ordered_json shuffled = {plate([](double u, double v) { return Vec3{u, 2 * v, 3}; }),
+                                 plate([](double w, double v) { return Vec3{0, 2 * v, 3 * w}; }),
+                                 plate([](double u, double w) { return Vec3{u, 0, 3 * w}; }),
+                                 plate([](double u, double v) { return Vec3{u, 2 * v, 0}; }),
+                                 plate([](double v, double w) { return Vec3{1, 2 * v, 3 * w}; }),
+                                 plate([](double w, double u) { return Vec3{u, 2, 3 * w}; })};
+  const Volume box = read_one({{"coons", {{"faces", shuffled}}}});
+  EXPECT_NE(check_jacobian(box).classification, JacobianClass::kFolded);
+  const Box3 b = box.bounds();
+  EXPECT_LE(norm(b.lo - Vec3{0, 0, 0}) + norm(b.hi - Vec3{1, 2, 3}), 1e-14);
+  expect_scene_error(scene_with({{"coons", {{"faces", shuffled}, {"u0", shuffled[1]}}}}).dump(), "/cells/0/geometry/coons/u0",
+                     "not both");
+  ordered_json five = shuffled;
+  five.erase(five.size() - 1);
+  expect_scene_error(scene_with({{"coons", {{"faces", five}}}}).dump(), "/cells/0/geometry/coons/faces",
+                     "array of 6 elements");
+}
+
+TEST(SceneConstruct, CoonsVolumeOfTheSharedDuckFolds) {
+  const auto dir = test::shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const std::string file = (dir / "surfaces" / "duck_brep.xml").string();
+  expect_scene_error(scene_with({{"coons", {{"faces", {{"file", file}}}}}}).dump(), "/cells/0/geometry/coons",
+                     "folds over itself");
+  const Volume duck = read_one({{"coons", {{"faces", {{"file", file}}}, {"allow_fold", true}}}});
+  EXPECT_EQ(check_jacobian(duck).classification, JacobianClass::kFolded);
 }
 
 TEST(SceneConstruct, FoldedVolumesAreErrorsUnlessAllowed) {

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <vector>
 
 #include "trivox/construct/report.h"
 #include "trivox/spline/tensor_spline.h"
@@ -34,7 +35,16 @@ struct CoonsParams {
 // when rational faces blend into a non-positive weight.
 Constructed coons(const std::array<TensorSpline, 6>& faces, const CoonsParams& params = {});
 
-// The name of a face ("u0", ...) and of the edge two faces share ("u=0, v=1"), for messages.
+// The name of a face ("u0", ...), for messages.
 const char* coons_face_name(int face) noexcept;
+
+// Six surfaces of a closed shell of cube topology given in any order and orientation (the
+// patches of a B-rep, e.g. G+Smo's duck), arranged as Coons faces: the first surface
+// becomes w0 with its own (u, v); the others are matched by their corners and turned
+// (parameters swapped and/or reversed, exact) to run as coons() expects. Corners closer than
+// `tolerance_relative` times the shell's control-box diagonal are the same vertex. Throws
+// ModelError when the corners do not make the 8 vertices and 12 edges of a cube.
+std::array<TensorSpline, 6> arrange_cube_faces(const std::vector<TensorSpline>& surfaces,
+                                               double tolerance_relative = 1e-9);
 
 }  // namespace trivox
