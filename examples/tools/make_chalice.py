@@ -18,7 +18,7 @@ def disc_section(rad):
             s = rad*h if (i != 1 and j != 1) else rad*math.sqrt(2)
             if i == 1 and j == 1: s = 0
             pts.append([r(s*a[i], 12), r(s*a[j], 12), 0])
-            w.append(r(wa[i]*wa[j], 16))
+            w.append(0.5 if (i == 1 and j == 1) else wa[i] * wa[j])
     return {"orders": [3, 3], "knots": [[0,0,0,1,1,1],[0,0,0,1,1,1]], "points": pts, "weights": w}
 
 def strand_path(phase, rho, z0, H, turns, n=16):

@@ -32,7 +32,8 @@ struct SweepParams {
 // section's local x, y axes go to the frame's normal and binormal, its z axis to the
 // path's tangent, so V(u,v,w) = path(w') + x(u,v) N(w') + y(u,v) B(w'), w in [0,1] mapped
 // onto the path's domain. A closed path (its ends meet with the same tangent) gets the
-// frame's closing rotation spread along it, so that the end section matches the start.
+// frame's closing rotation spread along it, so that the end section matches the start (with
+// a twist, only when the twist is a whole number of turns).
 // Throws ModelError on a non-planar section, a path with a zero tangent at a station or
 // too few stations.
 Constructed sweep(const TensorSpline& section, const TensorSpline& path, const SweepParams& params);
