@@ -28,8 +28,11 @@ void add_probe_command(CLI::App& app);
 // `trivox slice SCENE -o DIR`: printer-ready layer images of a scene, with stats.json.
 void add_slice_command(CLI::App& app);
 
+// `trivox build SPEC -o OUT.itd`: a volume made by a constructor, saved as a model file.
+void add_build_command(CLI::App& app);
+
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 3> kCommands = {&add_slice_command, &add_info_command,
-                                                        &add_probe_command};
+inline constexpr std::array<AddCommand, 4> kCommands = {&add_slice_command, &add_info_command,
+                                                        &add_probe_command, &add_build_command};
 
 }  // namespace trivox::cli

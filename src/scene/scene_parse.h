@@ -11,12 +11,17 @@
 #include <vector>
 
 #include "scene/json_view.h"
+#include "trivox/construct/report.h"
 #include "trivox/io/model.h"
 #include "trivox/material/material_function.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
 namespace trivox::detail {
+
+// Parses JSON text, rejecting keys repeated in one object; syntax errors are InputErrors with
+// the line.
+Json parse_json_text(std::string_view text, const std::string& source);
 
 class SceneContext {
  public:
@@ -51,7 +56,25 @@ struct GeometryPart {
   std::string label;
 };
 
-// A cell's "geometry": a model file and patch selection, or an inline spline.
+// An inline spline {"orders", "knots", "points", "weights"} with `param_dim` parameters (1:
+// a curve, 2: a surface, 3: a trivariate) and `point_dim` coordinates per control point.
+TensorSpline parse_inline_spline(const JsonView& node, int param_dim, int point_dim);
+
+// A curve or surface (`param_dim` 1 or 2, 3D points) for a constructor: {"file", "patch"}
+// (patch: index among the file's curves or surfaces) or inline.
+TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int param_dim);
+
+// True when a geometry object names a constructor ("extrude", "ruled", "revolve", "sweep",
+// "coons", "shell"; docs/SCENE.md, "Constructed geometry").
+bool is_constructed_geometry(const JsonView& node);
+// The volume a constructor builds, with its report; fails naming the field when an input is
+// wrong (a fold is in the report, not an error).
+Constructed parse_construction(const JsonView& node, SceneContext& ctx);
+// The same for a cell: also fails when the volume folds over itself, unless "allow_fold" is
+// true.
+Volume parse_constructed_geometry(const JsonView& node, SceneContext& ctx);
+
+// A cell's "geometry": a model file and patch selection, an inline spline, or a constructor.
 std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx);
 
 // An optional "placement" applied to a volume's control points.

@@ -84,7 +84,9 @@ class DuplicateKeyCheck {
   std::vector<Frame> frames_;
 };
 
-Json parse_json(std::string_view text, const std::string& source) {
+}  // namespace
+
+Json detail::parse_json_text(std::string_view text, const std::string& source) {
   try {
     return Json::parse(text.begin(), text.end(), DuplicateKeyCheck(source));
   } catch (const Json::parse_error& e) {
@@ -93,6 +95,8 @@ Json parse_json(std::string_view text, const std::string& source) {
     throw InputError(source, static_cast<int>(line), "", fmt::format("invalid JSON: {}", e.what()));
   }
 }
+
+namespace {
 
 double positive(const JsonView& v) {
   const double x = v.number();
@@ -237,7 +241,7 @@ void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) 
 
 Scene parse_scene(std::string_view json_text, const std::filesystem::path& source) {
   const std::string src = source.string();
-  const Json root = parse_json(json_text, src);
+  const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
   top.expect_object({"$schema", "version", "description", "units", "printer", "materials",
                      "fraction_sums", "cells"});

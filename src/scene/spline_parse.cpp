@@ -33,17 +33,14 @@ const Model& SceneContext::model(const JsonView& file_field) {
   }
 }
 
-namespace {
-
-// An inline spline: {"orders": [3 ints], "knots": [3 arrays], "points": [...], "weights": [...]}.
-// Points are arrays of point_dim numbers, or plain numbers when point_dim is 1.
-TensorSpline parse_inline_spline(const JsonView& node, int point_dim) {
+TensorSpline parse_inline_spline(const JsonView& node, int param_dim, int point_dim) {
   node.expect_object({"orders", "knots", "points", "weights"});
-  const std::vector<JsonView> orders = node.at("orders").elements(3, 3);
-  const std::vector<JsonView> knot_nodes = node.at("knots").elements(3, 3);
+  const auto pd = static_cast<std::size_t>(param_dim);
+  const std::vector<JsonView> orders = node.at("orders").elements(pd, pd);
+  const std::vector<JsonView> knot_nodes = node.at("knots").elements(pd, pd);
   std::vector<KnotVector> knots;
   std::size_t total = 1;
-  for (std::size_t d = 0; d < 3; ++d) {
+  for (std::size_t d = 0; d < pd; ++d) {
     const int order = orders[d].integer_in(1, kMaxOrder);
     try {
       knots.emplace_back(order, knot_nodes[d].numbers());
@@ -54,11 +51,13 @@ TensorSpline parse_inline_spline(const JsonView& node, int point_dim) {
   }
   const JsonView points_node = node.at("points");
   const std::vector<JsonView> points = points_node.elements();
-  if (points.size() != total)
-    points_node.fail(fmt::format("expected {} x {} x {} = {} control points (u fastest, then v, "
-                                 "then w; counts from the knots and orders), got {}",
-                                 knots[0].num_ctrl(), knots[1].num_ctrl(), knots[2].num_ctrl(),
-                                 total, points.size()));
+  if (points.size() != total) {
+    std::string counts;
+    for (std::size_t d = 0; d < pd; ++d) counts += fmt::format("{}{}", d ? " x " : "", knots[d].num_ctrl());
+    static const char* const kOrder[] = {"", "", "u fastest, then v", "u fastest, then v, then w"};
+    points_node.fail(fmt::format("expected {} = {} control points ({}counts from the knots and orders), got {}",
+                                 counts, total, pd > 1 ? std::string(kOrder[pd]) + "; " : "", points.size()));
+  }
   const auto dim = static_cast<std::size_t>(point_dim);
   std::vector<double> coords;
   coords.reserve(total * dim);
@@ -87,6 +86,8 @@ TensorSpline parse_inline_spline(const JsonView& node, int point_dim) {
     node.fail(e.what());
   }
 }
+
+namespace {
 
 // The trivariates of a model (param_dim 3), by position in the file.
 std::vector<const Patch*> trivariates(const Model& model) {
@@ -132,8 +133,12 @@ Volume make_volume(const JsonView& where, const TensorSpline& spline, const std:
 std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx) {
   if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
   std::vector<GeometryPart> parts;
+  if (is_constructed_geometry(node)) {
+    parts.push_back({parse_constructed_geometry(node, ctx), ""});
+    return parts;
+  }
   if (!node.find("file")) {
-    parts.push_back({make_volume(node, parse_inline_spline(node, 3), "the inline volume"), ""});
+    parts.push_back({make_volume(node, parse_inline_spline(node, 3, 3), "the inline volume"), ""});
     return parts;
   }
   node.expect_object({"file", "patch"});
@@ -159,7 +164,7 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
 
 TensorSpline parse_field(const JsonView& node, SceneContext& ctx, int point_dim) {
   if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
-  if (!node.find("file")) return parse_inline_spline(node, point_dim);
+  if (!node.find("file")) return parse_inline_spline(node, 3, point_dim);
   node.expect_object({"file", "patch"});
   const Model& model = ctx.model(node.at("file"));
   const std::vector<const Patch*> vols = trivariates(model);

@@ -1,0 +1,225 @@
+// Constructed geometry of a scene (docs/SCENE.md, "Constructed geometry"): a cell's volume
+// built from curves and surfaces by one of the constructors of include/trivox/construct/.
+#include <algorithm>
+#include <array>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "scene/scene_parse.h"
+#include "trivox/construct/coons.h"
+#include "trivox/construct/extrude.h"
+#include "trivox/construct/revolve.h"
+#include "trivox/construct/shell.h"
+#include "trivox/construct/sweep.h"
+#include "trivox/error.h"
+
+namespace trivox::detail {
+
+namespace {
+
+constexpr std::array<std::string_view, 6> kConstructors = {"extrude", "ruled", "revolve", "sweep", "coons", "shell"};
+
+Vec3 vec3(const JsonView& node) {
+  const std::vector<double> v = node.numbers(3, 3);
+  return {v[0], v[1], v[2]};
+}
+
+Vec3 nonzero_vec3(const JsonView& node) {
+  const Vec3 v = vec3(node);
+  if (!(norm(v) > 0.0)) node.fail("the vector is zero");
+  return v;
+}
+
+// The keys every constructor takes beside its own.
+JacobianCheckParams check_params(const JsonView& node) {
+  JacobianCheckParams p;
+  p.samples_per_direction = 9;
+  if (const auto s = node.find("jacobian_samples")) p.samples_per_direction = s->integer_in(2, 65);
+  return p;
+}
+
+// The constructor's object and its keys: its own plus the common ones.
+void expect_keys(const JsonView& node, std::initializer_list<std::string_view> own) {
+  std::vector<std::string_view> keys(own);
+  keys.push_back("jacobian_samples");
+  keys.push_back("allow_fold");
+  for (const auto& [key, value] : node.members())
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      std::string allowed;
+      for (std::string_view k : keys) allowed += fmt::format("{}\"{}\"", allowed.empty() ? "" : ", ", k);
+      value.fail(fmt::format("unknown key \"{}\"; the keys allowed here are {}", key, allowed));
+    }
+}
+
+const char* const kSurface = "surface";
+
+// The six faces of a closed shell in any order: an array of six surfaces, or {"file": F}, all
+// the surfaces of a model file.
+std::vector<TensorSpline> parse_shell_faces(const JsonView& node, SceneContext& ctx) {
+  std::vector<TensorSpline> out;
+  if (node.is_array()) {
+    for (const JsonView& e : node.elements(6, 6)) out.push_back(parse_curve_or_surface(e, ctx, 2));
+    return out;
+  }
+  if (!node.is_object())
+    node.fail(fmt::format("expected an array of six surfaces or {{\"file\": ...}}, got {}", JsonView::describe(node.json())));
+  node.expect_object({"file"});
+  const JsonView file = node.at("file");
+  for (const Patch& p : ctx.model(file).patches)
+    if (p.spline.param_dim() == 2) out.push_back(p.spline);
+  if (out.size() != 6)
+    file.fail(fmt::format("the file \"{}\" holds {} surfaces; a shell of cube topology has 6", file.string(), out.size()));
+  return out;
+}
+
+template <class Build>
+Constructed run(const JsonView& node, Build build) {
+  try {
+    return build();
+  } catch (const ModelError& e) {
+    node.fail(e.what());
+  }
+}
+
+Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
+  const JacobianCheckParams check = check_params(c);
+  if (kind == "extrude") {
+    expect_keys(c, {kSurface, "vector_mm"});
+    const TensorSpline s = parse_curve_or_surface(c.at(kSurface), ctx, 2);
+    ExtrudeParams p;
+    p.vector_mm = nonzero_vec3(c.at("vector_mm"));
+    p.check = check;
+    return run(c, [&] { return extrude(s, p); });
+  }
+  if (kind == "ruled") {
+    expect_keys(c, {"from", "to"});
+    const TensorSpline a = parse_curve_or_surface(c.at("from"), ctx, 2);
+    const TensorSpline b = parse_curve_or_surface(c.at("to"), ctx, 2);
+    return run(c, [&] { return ruled(a, b, RuledParams{check}); });
+  }
+  if (kind == "revolve") {
+    expect_keys(c, {"profile", "axis_point_mm", "axis_dir", "angle_deg", "angle_param"});
+    const TensorSpline s = parse_curve_or_surface(c.at("profile"), ctx, 2);
+    RevolveParams p;
+    if (const auto v = c.find("axis_point_mm")) p.axis_point_mm = vec3(*v);
+    if (const auto v = c.find("axis_dir")) p.axis_dir = nonzero_vec3(*v);
+    if (const auto v = c.find("angle_deg")) {
+      p.angle_deg = v->number();
+      if (!(p.angle_deg > 0.0 && p.angle_deg <= 360.0)) v->fail(fmt::format("the angle {} is not in (0, 360]", p.angle_deg));
+    }
+    if (const auto v = c.find("angle_param")) {
+      const std::string& name = v->string();
+      if (name != "u" && name != "v" && name != "w") v->fail(fmt::format("expected \"u\", \"v\" or \"w\", got \"{}\"", name));
+      p.angle_direction = name[0] - 'u';
+    }
+    p.check = check;
+    return run(c, [&] { return revolve(s, p); });
+  }
+  if (kind == "sweep") {
+    expect_keys(c, {"section", "path", "twist_deg", "stations", "initial_x"});
+    const TensorSpline section = parse_curve_or_surface(c.at("section"), ctx, 2);
+    const TensorSpline path = parse_curve_or_surface(c.at("path"), ctx, 1);
+    SweepParams p;
+    if (const auto v = c.find("twist_deg")) p.twist_deg = v->number();
+    if (const auto v = c.find("stations")) p.stations = v->integer_in(4, 4096);
+    if (const auto v = c.find("initial_x")) p.initial_x = nonzero_vec3(*v);
+    p.check = check;
+    return run(c, [&] { return sweep(section, path, p); });
+  }
+  if (kind == "coons") {
+    expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces"});
+    CoonsParams p;
+    p.check = check;
+    if (const auto all = c.find("faces")) {
+      for (int i = 0; i < 6; ++i)
+        if (c.find(coons_face_name(i)))
+          c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
+      const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
+      return run(c, [&] { return coons(arrange_cube_faces(shell), p); });
+    }
+    std::vector<TensorSpline> f;
+    for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
+    const std::array<TensorSpline, 6> faces{f[0], f[1], f[2], f[3], f[4], f[5]};
+    return run(c, [&] { return coons(faces, p); });
+  }
+  expect_keys(c, {kSurface, "thickness_mm", "side", "knots_per_span"});
+  const TensorSpline s = parse_curve_or_surface(c.at(kSurface), ctx, 2);
+  ShellParams p;
+  const JsonView t = c.at("thickness_mm");
+  p.thickness_mm = t.number();
+  if (!(p.thickness_mm > 0.0)) t.fail(fmt::format("{} is not > 0", p.thickness_mm));
+  if (const auto v = c.find("side")) {
+    const std::string& side = v->string();
+    if (side == "outside") p.side = ShellSide::kOutside;
+    else if (side == "inside") p.side = ShellSide::kInside;
+    else if (side == "centred" || side == "centered") p.side = ShellSide::kCentred;
+    else v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+  }
+  if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
+  p.check = check;
+  return run(c, [&] { return thick_shell(s, p); });
+}
+
+}  // namespace
+
+TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int param_dim) {
+  const char* what = param_dim == 1 ? "curve" : "surface";
+  if (!node.is_object()) node.fail(fmt::format("expected a {} (an object), got {}", what, JsonView::describe(node.json())));
+  if (!node.find("file")) {
+    const TensorSpline s = parse_inline_spline(node, param_dim, 3);
+    return s;
+  }
+  node.expect_object({"file", "patch"});
+  const JsonView file = node.at("file");
+  const Model& model = ctx.model(file);
+  std::vector<const Patch*> found;
+  for (const Patch& p : model.patches)
+    if (p.spline.param_dim() == param_dim) found.push_back(&p);
+  if (found.empty()) file.fail(fmt::format("the file \"{}\" holds no {}", file.string(), what));
+  std::size_t i = 0;
+  if (const auto patch = node.find("patch")) {
+    i = static_cast<std::size_t>(patch->integer_in(0, static_cast<int>(found.size()) - 1));
+  } else if (found.size() > 1) {
+    node.fail(fmt::format("the file \"{}\" holds {} {}s; say which with \"patch\" (0 to {})", file.string(), found.size(),
+                          what, found.size() - 1));
+  }
+  const TensorSpline& s = found[i]->spline;
+  if (s.point_dim() != 3)
+    node.fail(fmt::format("{} {} of \"{}\" has {} coordinate(s) per control point; geometry needs 3", what, i,
+                          file.string(), s.point_dim()));
+  return s;
+}
+
+bool is_constructed_geometry(const JsonView& node) {
+  for (std::string_view k : kConstructors)
+    if (node.find(k)) return true;
+  return false;
+}
+
+Constructed parse_construction(const JsonView& node, SceneContext& ctx) {
+  if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
+  if (node.json().size() != 1 || !is_constructed_geometry(node)) {
+    std::string keys;
+    for (const auto& [key, value] : node.members()) keys += fmt::format("{}\"{}\"", keys.empty() ? "" : ", ", key);
+    node.fail(fmt::format("a constructed geometry is an object with exactly one key, the constructor (\"extrude\", "
+                          "\"ruled\", \"revolve\", \"sweep\", \"coons\" or \"shell\"); got {}", keys));
+  }
+  const auto [kind, c] = node.members().front();
+  if (!c.is_object()) c.fail(fmt::format("expected an object, got {}", JsonView::describe(c.json())));
+  if (const auto a = c.find("allow_fold")) a->boolean();
+  return build(kind, c, ctx);
+}
+
+Volume parse_constructed_geometry(const JsonView& node, SceneContext& ctx) {
+  Constructed built = parse_construction(node, ctx);
+  const auto [kind, c] = node.members().front();
+  const auto allow = c.find("allow_fold");
+  if (built.report.folds() && !(allow && allow->boolean()))
+    c.fail(fmt::format("the constructed volume folds over itself ({}); fix the input or set \"allow_fold\": true to "
+                       "slice it anyway (each voxel then takes one of its preimages)",
+                       built.report.describe()));
+  return std::move(built.volume);
+}
+
+}  // namespace trivox::detail
