@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -25,6 +26,9 @@ struct SliceOptions {
   int threads = 0;
   std::string layers;
   std::string tracing = "full";
+  std::string dither;                 // empty: the scene's method
+  std::optional<int> skin_voxels;     // unset: the scene's
+  std::optional<bool> vary_by_layer;  // unset: the scene's
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
   std::vector<int> background{255, 255, 255, 255};
@@ -93,6 +97,20 @@ void run(const SliceOptions& o) {
   parse_layers(o.layers, job);
 
   const Scene scene = read_scene(o.scene);
+  // Dithering: the scene's settings, with the options given here on top.
+  DitherParams dither = scene.dithering.value_or(DitherParams{});
+  if (!o.dither.empty() && !set_dither_method(o.dither, dither)) {
+    std::string list;
+    for (std::string_view n : dither_method_names()) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+    throw UsageError(fmt::format("--dither must be one of {}, got '{}'", list, o.dither));
+  }
+  if (o.skin_voxels) {
+    if (*o.skin_voxels < 0 || *o.skin_voxels > DitherParams::kMaxSkinVoxels)
+      throw UsageError(fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
+    dither.skin_voxels = *o.skin_voxels;
+  }
+  if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
+  params.dither = dither;
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
   if (!o.quiet)
@@ -127,6 +145,11 @@ void add_slice_command(CLI::App& app) {
   cmd->add_option("--layers", opts->layers, "Only layers FIRST:LAST (1-based, inclusive)");
   cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full")
       ->capture_default_str();
+  cmd->add_option("--dither", opts->dither,
+                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
+  cmd->add_option("--skin", opts->skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
+  cmd->add_option("--vary-by-layer", opts->vary_by_layer,
+                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
   cmd->add_option("--format", opts->formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))

@@ -192,6 +192,12 @@ std::shared_ptr<const MaterialFunction> twisting_curves(const JsonView& node, Sc
 
 std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, SceneContext& ctx,
                                                        const ParamBox& cell_domain) {
+  if (node.is_string()) {  // "material": "VeroCyan": that material throughout
+    const int j = ctx.material_ref(node);
+    std::vector<float> fractions(static_cast<std::size_t>(ctx.num_materials()), 0.0f);
+    if (j != kVoidMaterial) fractions[static_cast<std::size_t>(j)] = 1.0f;
+    return std::make_shared<ConstantMaterial>(std::move(fractions));
+  }
   const JsonView kind_node = node.at("kind");
   const std::string& kind = kind_node.string();
   try {
