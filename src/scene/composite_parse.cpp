@@ -6,7 +6,7 @@
 #include "trivox/material/composite_material.h"
 #include "trivox/material/constant_material.h"
 #include "trivox/material/expression_material.h"
-#include "trivox/material/spline_field_material.h"
+#include "trivox/material/field_scalar_material.h"
 
 namespace trivox::detail {
 
@@ -25,15 +25,17 @@ std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, Scene
   }
   if (node.is_object() && node.find("texture")) return parse_texture_scalar(node, ctx, cell_domain);
   if (node.is_object() && node.find("field")) {
-    node.expect_object({"field", "component"});
+    node.expect_object({"field", "component", "magnitude"});
     TensorSpline field = parse_field(node.at("field"), ctx, kAnyPointDim);
-    int component = 0;
-    if (const auto c = node.find("component")) component = c->integer_in(0, field.point_dim() - 1);
-    std::vector<int> components(static_cast<std::size_t>(field.point_dim()), kVoidMaterial);
-    components[static_cast<std::size_t>(component)] = 0;
-    return std::make_shared<SplineFieldMaterial>(std::move(field), std::move(components), 1, cell_domain);
+    FieldScalarChoice choice;
+    if (const auto c = node.find("component")) choice.component = c->integer_in(0, field.point_dim() - 1);
+    if (const auto m = node.find("magnitude")) {
+      choice.magnitude = m->boolean();
+      if (choice.magnitude && node.find("component")) m->fail("give either \"component\" or \"magnitude\", not both");
+    }
+    return std::make_shared<FieldScalarMaterial>(std::move(field), choice, cell_domain);
   }
-  node.fail(fmt::format("expected a scalar: a number, an expression (a string), {{\"field\": ..., \"component\": k}} "
+  node.fail(fmt::format("expected a scalar: a number, an expression (a string), {{\"field\": ..., \"component\": k or \"magnitude\": true}} "
                         "or {{\"texture\": ..., \"channel\": k}}, got {}", JsonView::describe(node.json())));
 }
 

@@ -85,7 +85,8 @@ std::shared_ptr<const MaterialFunction> parse_texture_scalar(const JsonView& nod
                                                              const ParamBox& cell_domain);
 
 // A scalar source (composite_parse.cpp): a number, an expression string, {"field": ...,
-// "component": k}, {"texture": image, "channel": k, ...}; a function with one output.
+// "component": k} or {"field": ..., "magnitude": true}, {"texture": image, "channel": k,
+// ...}; a function with one output.
 std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, SceneContext& ctx,
                                                      const ParamBox& cell_domain);
 

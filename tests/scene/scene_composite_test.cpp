@@ -114,6 +114,16 @@ TEST(SceneComposition, EveryRuleFromTheSceneFile) {
       dir / "s.json");
   expect_near(at(blend, {0.25, 0, 0}), {0.75f, 0.125f});
 
+  // transfer from the magnitude of a vector field: |(3u, 4u)| = 5u.
+  const ordered_json field34 = {{"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{0, 0}, {3, 4}}}};
+  const Scene magnitude = parse_scene(
+      scene_with({{"kind", "transfer"},
+                  {"source", {{"field", field34}, {"magnitude", true}}},
+                  {"stops", {{{"value", 0}, {"fractions", {{"A", 1}}}}, {{"value", 5}, {"fractions", {{"B", 1}}}}}}})
+          .dump(),
+      dir / "s.json");
+  expect_near(at(magnitude, {0.2, 0, 0}), {0.8f, 0.2f});
+
   // transfer: an expression through two stops.
   const Scene transfer = parse_scene(
       scene_with({{"kind", "transfer"},
@@ -178,6 +188,9 @@ TEST(SceneComposition, Errors) {
   error({{"kind", "threshold"}, {"source", {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {{0.5, 0.5}}}}}, {"component", 2}}},
          {"level", 0.5}, {"below", "A"}, {"above", "B"}},
         "/cells/0/material/source/component", "outside [0, 1]");
+  error({{"kind", "blend"}, {"a", "A"}, {"b", "B"},
+         {"weight", {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {0.5}}}}, {"component", 0}, {"magnitude", true}}}},
+        "/cells/0/material/weight/magnitude", "not both");
 }
 
 // An analysis result from a file: IRIT's scalar trivariate sphere16.itd (values from 0 at one

@@ -3,7 +3,8 @@
 //
 // A *scalar source* here is any material function with one output (num_materials() == 1):
 // its single fraction is read as a number, not checked as a fraction (a constant, an
-// expression, one component of a spline field, one channel of a texture). Every part is built
+// expression, a component or the magnitude of a spline field (field_scalar_material.h), one
+// channel of a texture). Every part is built
 // for the same cell and receives the same (u,v,w) and (x,y,z); parts are evaluated over the
 // whole row, then combined per sample.
 //
