@@ -117,6 +117,12 @@ void run(const SliceOptions& o) {
     fmt::print(stderr, "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} mm layers)\n",
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  if (!o.quiet) {
+    const DitherParams& d = slicer.dither_params();
+    fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
+               d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
+               d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
+  }
   TerminalProgress progress(o.quiet);
   const JobStats st = run_slice_job(slicer, job, &progress);
 

@@ -114,7 +114,7 @@ bool set_dither_method(std::string_view name, DitherParams& params) noexcept;
 // Throws Error when the params are invalid, the layer is negative, the mask's size differs
 // from the grid's, or a fraction breaks MaterialGrid::check_fractions(fraction_tolerance).
 // Error diffusion allocates only the kernel's rows of error buffer (1 + the rows it reaches
-// below, of width_px * (m + 1) int32 each), plus a mask copy when there is a skin.
+// below, of width_px * (m + 1) int32 each); a skin adds a depth plane and a mask per call.
 // Thread-safe for distinct outputs: no shared mutable state.
 void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
             LabelImage& labels, int layer = 0);
