@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <optional>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct SliceOptions {
   std::string layers;
   std::string tracing = std::string(to_string(SliceParams{}.tracing));
   double residual_tolerance_mm = SliceParams{}.newton.residual_tolerance_model;
+  std::string dither;                 // empty: the scene's method
+  std::optional<int> skin_voxels;     // unset: the scene's
+  std::optional<bool> vary_by_layer;  // unset: the scene's
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
   std::vector<int> background{255, 255, 255, 255};
@@ -95,12 +99,32 @@ void run(const SliceOptions& o) {
   parse_layers(o.layers, job);
 
   const Scene scene = read_scene(o.scene);
+  // Dithering: the scene's settings, with the options given here on top.
+  DitherParams dither = scene.dithering.value_or(DitherParams{});
+  if (!o.dither.empty() && !set_dither_method(o.dither, dither)) {
+    std::string list;
+    for (std::string_view n : dither_method_names()) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
+    throw UsageError(fmt::format("--dither must be one of {}, got '{}'", list, o.dither));
+  }
+  if (o.skin_voxels) {
+    if (*o.skin_voxels < 0 || *o.skin_voxels > DitherParams::kMaxSkinVoxels)
+      throw UsageError(fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
+    dither.skin_voxels = *o.skin_voxels;
+  }
+  if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
+  params.dither = dither;
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
   if (!o.quiet)
     fmt::print(stderr, "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} mm layers)\n",
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  if (!o.quiet) {
+    const DitherParams& d = slicer.dither_params();
+    fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
+               d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
+               d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
+  }
   TerminalProgress progress(o.quiet);
   const JobStats st = run_slice_job(slicer, job, &progress);
 
@@ -133,6 +157,11 @@ void add_slice_command(CLI::App& app) {
                   "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd->add_option("--dither", opts->dither,
+                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
+  cmd->add_option("--skin", opts->skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
+  cmd->add_option("--vary-by-layer", opts->vary_by_layer,
+                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
   cmd->add_option("--format", opts->formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))

@@ -24,6 +24,13 @@ void validate(const TensorSpline& field, const std::vector<GradientStop>& stops)
     throw Error(fmt::format("a scalar gradient needs a scalar trivariate field (3 parametric "
                             "directions, 1 component), got {} direction(s) and {} component(s)",
                             field.param_dim(), field.point_dim()));
+  validate_gradient_stops(stops);
+}
+
+}  // namespace
+
+void validate_gradient_stops(const std::vector<GradientStop>& stops) {
+  if (stops.empty()) throw Error("a gradient needs at least one stop");
   for (std::size_t i = 0; i < stops.size(); ++i) {
     const GradientStop& stop = stops[i];
     if (!std::isfinite(stop.value))
@@ -40,8 +47,6 @@ void validate(const TensorSpline& field, const std::vector<GradientStop>& stops)
   }
 }
 
-}  // namespace
-
 ScalarGradientMaterial::ScalarGradientMaterial(TensorSpline field, std::vector<GradientStop> stops,
                                                const ParamBox& cell_domain)
     : MaterialFunction(stop_material_count(stops)), field_(std::move(field)), stops_(std::move(stops)) {
@@ -52,7 +57,11 @@ ScalarGradientMaterial::ScalarGradientMaterial(TensorSpline field, std::vector<G
 }
 
 void ScalarGradientMaterial::ramp(double s, std::span<float> out) const noexcept {
-  const auto m = static_cast<std::size_t>(num_materials());
+  gradient_ramp(stops_, s, out);
+}
+
+void gradient_ramp(std::span<const GradientStop> stops, double s, std::span<float> out) noexcept {
+  const std::size_t m = stops.front().fractions.size();
   if (std::isnan(s)) {  // passed on for the fraction policy to report
     std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(m),
               std::numeric_limits<float>::quiet_NaN());
@@ -60,10 +69,10 @@ void ScalarGradientMaterial::ramp(double s, std::span<float> out) const noexcept
   }
   // First stop whose value is above s: s lies in [stops[i-1], stops[i]). upper_bound makes the
   // later of two equal stops apply at their value (a step).
-  const auto it = std::upper_bound(stops_.begin(), stops_.end(), s,
+  const auto it = std::upper_bound(stops.begin(), stops.end(), s,
                                    [](double x, const GradientStop& g) { return x < g.value; });
-  if (it == stops_.begin() || it == stops_.end()) {
-    const GradientStop& end = it == stops_.begin() ? stops_.front() : stops_.back();
+  if (it == stops.begin() || it == stops.end()) {
+    const GradientStop& end = it == stops.begin() ? stops.front() : stops.back();
     std::copy(end.fractions.begin(), end.fractions.end(), out.begin());
     return;
   }

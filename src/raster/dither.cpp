@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "raster/dither_kernels.h"
+#include "raster/skin.h"
+#include "trivox/raster/blue_noise.h"
 
 namespace trivox {
 
@@ -16,14 +18,54 @@ std::string_view to_string(DiffusionKernel kernel) noexcept {
   switch (kernel) {
     case DiffusionKernel::kFloydSteinberg:
       return "floyd-steinberg";
+    case DiffusionKernel::kJarvisJudiceNinke:
+      return "jarvis-judice-ninke";
+    case DiffusionKernel::kStucki:
+      return "stucki";
   }
   return "unknown";
 }
 
+namespace {
+constexpr std::string_view kBlueNoiseName = "blue-noise";
+constexpr std::string_view kMethodNames[] = {"floyd-steinberg", "jarvis-judice-ninke", "stucki",
+                                             kBlueNoiseName};
+}  // namespace
+
+std::span<const std::string_view> dither_method_names() noexcept { return kMethodNames; }
+
+std::string_view dither_method_name(const DitherParams& params) noexcept {
+  return params.method == DitherMethod::kBlueNoise ? kBlueNoiseName : to_string(params.kernel);
+}
+
+bool set_dither_method(std::string_view name, DitherParams& params) noexcept {
+  if (name == kBlueNoiseName) {
+    params.method = DitherMethod::kBlueNoise;
+    return true;
+  }
+  for (DiffusionKernel k : {DiffusionKernel::kFloydSteinberg, DiffusionKernel::kJarvisJudiceNinke,
+                            DiffusionKernel::kStucki}) {
+    if (name == to_string(k)) {
+      params.method = DitherMethod::kErrorDiffusion;
+      params.kernel = k;
+      return true;
+    }
+  }
+  return false;
+}
+
 void DitherParams::validate() const {
+  if (method != DitherMethod::kErrorDiffusion && method != DitherMethod::kBlueNoise) {
+    throw Error(fmt::format("dither params: method = {} is not a known dithering method",
+                            static_cast<int>(method)));
+  }
   if (detail::diffusion_taps(kernel).empty()) {
     throw Error(fmt::format("dither params: kernel = {} is not a known diffusion kernel",
                             static_cast<int>(kernel)));
+  }
+  if (skin_voxels < 0 || skin_voxels > kMaxSkinVoxels) {
+    throw Error(fmt::format("dither params: skin_voxels = {} is not in [0, {}]", skin_voxels,
+                            kMaxSkinVoxels));
   }
   if (!std::isfinite(fraction_tolerance) || fraction_tolerance < 0.0f ||
       fraction_tolerance >= 0.5f) {
@@ -77,9 +119,10 @@ inline void spread_all(const std::int32_t* e, std::size_t num_components,
 // Error rows live in a ring of Kernel::kRows rows, each width_px * (m + 1) int32: row y + r
 // is slot (y + r) % kRows. After row y is done its slot is cleared and becomes row
 // y + kRows.
+// Logical row y is image row image_row(y) (see detail::ScanOrientation).
 template <class Kernel>
 void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
-                 LabelImage& labels) {
+                 detail::ScanOrientation orientation, LabelImage& labels) {
   constexpr auto& taps = Kernel::kTaps;
   constexpr int kNumTaps = static_cast<int>(taps.size());
   constexpr int kRows = Kernel::kRows;
@@ -91,17 +134,18 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
   const std::size_t row_values = static_cast<std::size_t>(width) * num_components;
   std::vector<std::int32_t> error(static_cast<std::size_t>(kRows) * row_values, 0);
 
+  auto image_row = [&](int y) { return orientation.bottom_up ? height - 1 - y : y; };
   for (int y = 0; y < height; ++y) {
-    const bool reverse = serpentine && (y % 2 == 1);
+    const bool reverse = (serpentine && (y % 2 == 1)) != orientation.first_row_reversed;
     const int dir = reverse ? -1 : 1;
     std::int32_t* error_rows[kRows];
     const std::uint8_t* mask_rows[kRows];
     for (int r = 0; r < kRows; ++r) {
       error_rows[r] = error.data() + static_cast<std::size_t>((y + r) % kRows) * row_values;
-      mask_rows[r] = y + r < height ? inside.row(y + r).data() : nullptr;
+      mask_rows[r] = y + r < height ? inside.row(image_row(y + r)).data() : nullptr;
     }
-    const float* fraction_row = fractions.row(y).data();
-    std::uint8_t* label_row = labels.row(y).data();
+    const float* fraction_row = fractions.row(image_row(y)).data();
+    std::uint8_t* label_row = labels.row(image_row(y)).data();
 
     for (int i = 0; i < width; ++i) {
       const int x = reverse ? width - 1 - i : i;
@@ -155,11 +199,88 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
   }
 }
 
+// The label of the first component (void, then the materials) whose running sum exceeds
+// the pixel's threshold. Void is what the materials leave, clamped at 0, so the running sum
+// ends at >= kDitherFixedOne > any threshold.
+inline std::uint8_t threshold_label(const float* f, std::size_t m, std::int32_t threshold) noexcept {
+  std::int32_t material_total = 0;
+  for (std::size_t k = 0; k < m; ++k) material_total += detail::fraction_to_fixed(f[k]);
+  std::int32_t running = std::max(0, kDitherFixedOne - material_total);
+  if (threshold < running) return LabelImage::kVoid;
+  for (std::size_t k = 0; k + 1 < m; ++k) {
+    running += detail::fraction_to_fixed(f[k]);
+    if (threshold < running) return LabelImage::label_of_material(static_cast<int>(k));
+  }
+  return LabelImage::label_of_material(static_cast<int>(m - 1));
+}
+
+void blue_noise_threshold(const MaterialGrid& fractions, const InsideMask& inside,
+                          detail::TileOffset offset, LabelImage& labels) {
+  const auto& tile = blue_noise_tile();
+  const std::size_t m = static_cast<std::size_t>(fractions.num_materials());
+  constexpr int kMask = kBlueNoiseTileSize - 1;
+  static_assert((kBlueNoiseTileSize & kMask) == 0, "the tile size is a power of two");
+  for (int y = 0; y < fractions.height_px(); ++y) {
+    const float* fraction_row = fractions.row(y).data();
+    const std::uint8_t* mask_row = inside.row(y).data();
+    std::uint8_t* label_row = labels.row(y).data();
+    const std::uint16_t* tile_row =
+        tile.data() + static_cast<std::size_t>(((y + offset.dy) & kMask) * kBlueNoiseTileSize);
+    for (int x = 0; x < fractions.width_px(); ++x) {
+      if (mask_row[x] == 0) {
+        label_row[x] = LabelImage::kVoid;
+        continue;
+      }
+      const std::int32_t threshold = detail::rank_threshold(tile_row[(x + offset.dx) & kMask]);
+      label_row[x] = threshold_label(fraction_row + static_cast<std::size_t>(x) * m, m, threshold);
+    }
+  }
+}
+
+// The nearest pure label of a pixel: the largest of its m + 1 components (void first), ties
+// to the lowest label.
+std::uint8_t nearest_pure_label(std::span<const float> f) noexcept {
+  std::int32_t material_total = 0;
+  for (float v : f) material_total += detail::fraction_to_fixed(v);
+  std::uint8_t best = LabelImage::kVoid;
+  std::int32_t best_value = kDitherFixedOne - material_total;
+  for (std::size_t k = 0; k < f.size(); ++k) {
+    const std::int32_t q = detail::fraction_to_fixed(f[k]);
+    if (q > best_value) {
+      best = LabelImage::label_of_material(static_cast<int>(k));
+      best_value = q;
+    }
+  }
+  return best;
+}
+
+void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
+                 int layer, LabelImage& labels) {
+  if (params.method == DitherMethod::kBlueNoise) {
+    blue_noise_threshold(fractions, inside, detail::tile_offset(layer, params.vary_by_layer), labels);
+    return;
+  }
+  const detail::ScanOrientation orientation = detail::scan_orientation(layer, params.vary_by_layer);
+  switch (params.kernel) {
+    case DiffusionKernel::kFloydSteinberg:
+      dither_with<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation, labels);
+      return;
+    case DiffusionKernel::kJarvisJudiceNinke:
+      dither_with<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine, orientation,
+                                                   labels);
+      return;
+    case DiffusionKernel::kStucki:
+      dither_with<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, labels);
+      return;
+  }
+}
+
 }  // namespace
 
 void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
-            LabelImage& labels) {
+            LabelImage& labels, int layer) {
   params.validate();
+  if (layer < 0) throw Error(fmt::format("dither: layer = {} is negative", layer));
   if (inside.width_px() != fractions.width_px() || inside.height_px() != fractions.height_px()) {
     throw Error(fmt::format("dither: inside mask is {} x {} px but the material grid is {} x {}",
                             inside.width_px(), inside.height_px(), fractions.width_px(),
@@ -169,17 +290,30 @@ void dither(const MaterialGrid& fractions, const InsideMask& inside, const Dithe
   if (labels.width_px() != fractions.width_px() || labels.height_px() != fractions.height_px()) {
     labels = LabelImage(fractions.width_px(), fractions.height_px());
   }
-  switch (params.kernel) {
-    case DiffusionKernel::kFloydSteinberg:
-      dither_with<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, labels);
-      return;
+  if (params.skin_voxels == 0) {
+    dither_core(fractions, inside, params, layer, labels);
+    return;
+  }
+  // The skin takes its nearest pure labels; the core is dithered as if the skin were outside.
+  const auto cap = static_cast<std::uint16_t>(params.skin_voxels + 1);
+  const PixelPlane<std::uint16_t> depth = detail::chessboard_depth(inside, cap);
+  InsideMask core(fractions.width_px(), fractions.height_px(), 0);
+  for (int y = 0; y < fractions.height_px(); ++y) {
+    for (int x = 0; x < fractions.width_px(); ++x) core.at(x, y) = depth.at(x, y) == cap ? 1 : 0;
+  }
+  dither_core(fractions, core, params, layer, labels);
+  for (int y = 0; y < fractions.height_px(); ++y) {
+    for (int x = 0; x < fractions.width_px(); ++x) {
+      const std::uint16_t d = depth.at(x, y);
+      if (d > 0 && d < cap) labels.at(x, y) = nearest_pure_label(fractions.pixel(x, y));
+    }
   }
 }
 
 LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside,
-                  const DitherParams& params) {
+                  const DitherParams& params, int layer) {
   LabelImage labels;
-  dither(fractions, inside, params, labels);
+  dither(fractions, inside, params, labels, layer);
   return labels;
 }
 

@@ -1,5 +1,5 @@
-// Internal to the dithering: the diffusion kernels as tap tables and the conversion of a
-// fraction to fixed point. Shared by src/raster/dither.cpp and the reference implementation
+// Internal to the dithering: the diffusion kernels as tap tables, the conversion of a
+// fraction to fixed point, and the per-layer scan orientation and tile offset. Shared by src/raster/dither.cpp and the reference implementation
 // in tests/raster/dither_test.cpp, so that both read the same definitions.
 #pragma once
 
@@ -36,12 +36,32 @@ constexpr int rows_spanned(const std::array<DiffusionTap, N>& taps) noexcept {
 }
 
 // A kernel is a type with a constexpr tap table, so the dithering loop is instantiated per
-// kernel with its weights and weight sum as compile-time constants. Adding Jarvis-Judice-
-// Ninke or Stucki is one more such type, an enumerator and a case in each switch.
+// kernel with its weights and weight sum as compile-time constants. A new kernel is one more
+// such type, an enumerator and a case in each switch.
 struct FloydSteinbergKernel {
   // Floyd and Steinberg, "An adaptive algorithm for spatial greyscale", Proc. SID 17 (1976).
   static constexpr std::array<DiffusionTap, 4> kTaps{{{1, 0, 7}, {-1, 1, 3}, {0, 1, 5}, {1, 1, 1}}};
   static constexpr std::int32_t kWeightSum = weight_sum(kTaps);
+  static constexpr int kRows = rows_spanned(kTaps);
+};
+
+struct JarvisJudiceNinkeKernel {
+  // Jarvis, Judice and Ninke, "A survey of techniques for the display of continuous tone
+  // pictures on bilevel displays", Computer Graphics and Image Processing 5 (1976).
+  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 7}, {2, 0, 5},
+                                                       {-2, 1, 3}, {-1, 1, 5}, {0, 1, 7}, {1, 1, 5}, {2, 1, 3},
+                                                       {-2, 2, 1}, {-1, 2, 3}, {0, 2, 5}, {1, 2, 3}, {2, 2, 1}}};
+  static constexpr std::int32_t kWeightSum = weight_sum(kTaps);  // 48
+  static constexpr int kRows = rows_spanned(kTaps);
+};
+
+struct StuckiKernel {
+  // Stucki, "MECCA - a multiple-error correcting computation algorithm for bilevel image
+  // hardcopy reproduction", IBM Research Report RZ1060 (1981).
+  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 8}, {2, 0, 4},
+                                                       {-2, 1, 2}, {-1, 1, 4}, {0, 1, 8}, {1, 1, 4}, {2, 1, 2},
+                                                       {-2, 2, 1}, {-1, 2, 2}, {0, 2, 4}, {1, 2, 2}, {2, 2, 1}}};
+  static constexpr std::int32_t kWeightSum = weight_sum(kTaps);  // 42
   static constexpr int kRows = rows_spanned(kTaps);
 };
 
@@ -50,8 +70,47 @@ inline std::span<const DiffusionTap> diffusion_taps(DiffusionKernel kernel) noex
   switch (kernel) {
     case DiffusionKernel::kFloydSteinberg:
       return FloydSteinbergKernel::kTaps;
+    case DiffusionKernel::kJarvisJudiceNinke:
+      return JarvisJudiceNinkeKernel::kTaps;
+    case DiffusionKernel::kStucki:
+      return StuckiKernel::kTaps;
   }
   return {};
+}
+
+// How error diffusion walks a layer: logical row r is image row r (top-down) or
+// height - 1 - r (bottom-up); the first logical row runs left to right unless
+// first_row_reversed. With variation the four orientations cycle so that neighbouring layers
+// differ in both: layer 0 top-down left-first, 1 bottom-up right-first, 2 top-down
+// right-first, 3 bottom-up left-first.
+struct ScanOrientation {
+  bool bottom_up = false;
+  bool first_row_reversed = false;
+};
+inline ScanOrientation scan_orientation(int layer, bool vary_by_layer) noexcept {
+  if (!vary_by_layer) return {};
+  const unsigned l = static_cast<unsigned>(layer);
+  return {(l & 1u) != 0, ((l + l / 2) & 1u) != 0};
+}
+
+// The blue-noise tile's offset for a layer: pixel (x, y) reads tile cell
+// ((x + dx) mod 64, (y + dy) mod 64). Odd multipliers walk all 64 offsets along each axis
+// before repeating, and consecutive layers land far apart.
+struct TileOffset {
+  int dx = 0;
+  int dy = 0;
+};
+inline TileOffset tile_offset(int layer, bool vary_by_layer) noexcept {
+  if (!vary_by_layer) return {};
+  const unsigned l = static_cast<unsigned>(layer);
+  return {static_cast<int>((l * 29u) % 64u), static_cast<int>((l * 45u) % 64u)};
+}
+
+// The threshold of a tile rank in fixed point: the centre of its 1/4096 slot of [0, 1).
+inline std::int32_t rank_threshold(std::uint16_t rank) noexcept {
+  static_assert(kDitherFixedOne % 4096 == 0);
+  constexpr std::int32_t kSlot = kDitherFixedOne / 4096;
+  return static_cast<std::int32_t>(rank) * kSlot + kSlot / 2;
 }
 
 // A fraction in fixed point: clamped to [0, 1], then rounded half up. f * 2^16 is exact in

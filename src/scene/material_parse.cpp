@@ -55,7 +55,7 @@ namespace {
 
 constexpr std::string_view kKinds =
     "\"constant\", \"spline_field\", \"scalar_gradient\", \"expression\", \"porous_tiles\", "
-    "\"twisting_curves\"";
+    "\"twisting_curves\", \"texture\", \"transfer\", \"blend\", \"threshold\", \"select\", \"void_mask\"";
 
 int axis_ref(const JsonView& v) {
   const std::string& s = v.string();
@@ -81,12 +81,11 @@ std::shared_ptr<const MaterialFunction> spline_field(const JsonView& node, Scene
                                                ctx.num_materials(), domain);
 }
 
-std::shared_ptr<const MaterialFunction> scalar_gradient(const JsonView& node, SceneContext& ctx,
-                                                        const ParamBox& domain) {
-  node.expect_object({"kind", "field", "stops"});
-  TensorSpline field = parse_field(node.at("field"), ctx, 1);
+}  // namespace
+
+std::vector<GradientStop> parse_stops(const JsonView& node, const SceneContext& ctx) {
   std::vector<GradientStop> stops;
-  for (const JsonView& s : node.at("stops").elements(1)) {
+  for (const JsonView& s : node.elements(1)) {
     s.expect_object({"value", "fractions"});
     const JsonView value = s.at("value");
     GradientStop stop{value.number(), ctx.fraction_map(s.at("fractions"))};
@@ -94,7 +93,16 @@ std::shared_ptr<const MaterialFunction> scalar_gradient(const JsonView& node, Sc
       value.fail(fmt::format("stop values must not decrease: {} follows {}", stop.value, stops.back().value));
     stops.push_back(std::move(stop));
   }
-  return std::make_shared<ScalarGradientMaterial>(std::move(field), std::move(stops), domain);
+  return stops;
+}
+
+namespace {
+
+std::shared_ptr<const MaterialFunction> scalar_gradient(const JsonView& node, SceneContext& ctx,
+                                                        const ParamBox& domain) {
+  node.expect_object({"kind", "field", "stops"});
+  TensorSpline field = parse_field(node.at("field"), ctx, 1);
+  return std::make_shared<ScalarGradientMaterial>(std::move(field), parse_stops(node.at("stops"), ctx), domain);
 }
 
 std::shared_ptr<const MaterialFunction> expression(const JsonView& node, SceneContext& ctx,
@@ -192,6 +200,12 @@ std::shared_ptr<const MaterialFunction> twisting_curves(const JsonView& node, Sc
 
 std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, SceneContext& ctx,
                                                        const ParamBox& cell_domain) {
+  if (node.is_string()) {  // "material": "VeroCyan": that material throughout
+    const int j = ctx.material_ref(node);
+    std::vector<float> fractions(static_cast<std::size_t>(ctx.num_materials()), 0.0f);
+    if (j != kVoidMaterial) fractions[static_cast<std::size_t>(j)] = 1.0f;
+    return std::make_shared<ConstantMaterial>(std::move(fractions));
+  }
   const JsonView kind_node = node.at("kind");
   const std::string& kind = kind_node.string();
   try {
@@ -204,6 +218,8 @@ std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, Sce
     if (kind == "expression") return expression(node, ctx, cell_domain);
     if (kind == "porous_tiles") return porous_tiles(node, ctx, cell_domain);
     if (kind == "twisting_curves") return twisting_curves(node, ctx, cell_domain);
+    if (kind == "texture") return parse_texture(node, ctx, cell_domain);
+    if (auto composite = parse_composite(kind, node, ctx, cell_domain)) return composite;
   } catch (const InputError&) {
     throw;
   } catch (const Error& e) {

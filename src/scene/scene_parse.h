@@ -13,7 +13,9 @@
 #include "scene/json_view.h"
 #include "trivox/construct/report.h"
 #include "trivox/io/model.h"
+#include "trivox/io/volume_image.h"
 #include "trivox/material/material_function.h"
+#include "trivox/material/scalar_gradient_material.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
@@ -42,11 +44,19 @@ class SceneContext {
   // The model file a string field names, relative to the scene's folder; read once per scene.
   const Model& model(const JsonView& file_field);
 
+  // A file a string field names, relative to the scene's folder (normalised); fails naming
+  // the field when there is no such file.
+  std::filesystem::path existing_file(const JsonView& file_field, std::string_view what) const;
+
+  // The volume image an "image" object names (texture_parse.cpp); read once per scene.
+  std::shared_ptr<const VolumeImage> volume_image(const JsonView& image);
+
  private:
   std::string source_;
   std::filesystem::path base_dir_;
   std::vector<std::string> material_names_;
   std::map<std::string, Model> models_;  // by resolved path
+  std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text
 };
 
 // One trivariate of a cell's geometry and the label that tells several apart ("" for the
@@ -81,8 +91,32 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
 Volume parse_and_apply_placement(const JsonView& node, const Volume& volume);
 
 // A trivariate spline field with `point_dim` components: {"file", "patch"} or inline
-// {"orders", "knots", "points", "weights"}.
+// {"orders", "knots", "points", "weights"}. kAnyPointDim accepts any number of components
+// (an inline field's count is that of its first point).
+inline constexpr int kAnyPointDim = -1;
 TensorSpline parse_field(const JsonView& node, SceneContext& ctx, int point_dim);
+
+// The "stops" of a gradient or transfer function: values non-decreasing, fractions maps.
+std::vector<GradientStop> parse_stops(const JsonView& node, const SceneContext& ctx);
+
+// A "texture" material function (texture_parse.cpp).
+std::shared_ptr<const MaterialFunction> parse_texture(const JsonView& node, SceneContext& ctx,
+                                                      const ParamBox& cell_domain);
+
+// {"texture": image, "channel": k, "filter", "wrap", "repeats"}: one channel as a scalar source.
+std::shared_ptr<const MaterialFunction> parse_texture_scalar(const JsonView& node, SceneContext& ctx,
+                                                             const ParamBox& cell_domain);
+
+// A scalar source (composite_parse.cpp): a number, an expression string, {"field": ...,
+// "component": k} or {"field": ..., "magnitude": true}, {"texture": image, "channel": k,
+// ...}; a function with one output.
+std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, SceneContext& ctx,
+                                                     const ParamBox& cell_domain);
+
+// The composition kinds "transfer", "blend", "threshold", "select", "void_mask"
+// (composite_parse.cpp); nullptr for another kind.
+std::shared_ptr<const MaterialFunction> parse_composite(const std::string& kind, const JsonView& node,
+                                                        SceneContext& ctx, const ParamBox& cell_domain);
 
 // A cell's "material", built for the cell's parametric domain (not yet policy-checked).
 std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, SceneContext& ctx,

@@ -14,6 +14,7 @@
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
 #include "trivox/material/checked_material.h"
+#include "trivox/printer/material_library.h"
 
 namespace trivox {
 
@@ -172,15 +173,33 @@ std::array<std::uint8_t, 4> parse_rgba(const JsonView& node) {
 std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProfile& printer) {
   std::vector<MaterialDef> materials;
   for (const JsonView& e : node.elements(1)) {
-    e.expect_object({"name", "rgba", "description"});
-    const JsonView name = e.at("name");
-    MaterialDef def{name.string(), parse_rgba(e.at("rgba"))};
+    // A plain string names a library material; an object may leave out the colour of one.
+    const bool named_only = e.is_string();
+    if (!named_only) e.expect_object({"name", "rgba", "description"});
+    const JsonView name = named_only ? e : e.at("name");
+    MaterialDef def{name.string(), {}, {}};
     if (def.name.empty()) name.fail("a material name must not be empty");
+    const std::optional<LibraryMaterial> known = find_library_material(def.name);
+    if (known) def.library = std::string(known->name);
+    const std::optional<JsonView> rgba = named_only ? std::nullopt : e.find("rgba");
+    if (rgba) {
+      def.rgba = parse_rgba(*rgba);
+    } else if (known) {
+      def.rgba = known->rgba;
+      if (named_only) def.name = def.library;
+    } else {
+      std::string list;
+      for (const LibraryMaterial& m : material_library()) list += fmt::format("{}{}", list.empty() ? "" : ", ", m.name);
+      (named_only ? e : e.at("name"))
+          .fail(fmt::format("\"{}\" is not a library material, so it needs an \"rgba\" colour; the library "
+                            "materials are {}", def.name, list));
+    }
     if (def.name == "void") name.fail("\"void\" is reserved for no material and needs no entry");
     for (std::size_t i = 0; i < materials.size(); ++i)
       if (materials[i].name == def.name)
         name.fail(fmt::format("material \"{}\" is declared already as /materials/{}", def.name, i));
-    if (const auto d = e.find("description")) d->string();
+    if (!named_only)
+      if (const auto d = e.find("description")) d->string();
     materials.push_back(std::move(def));
   }
   if (static_cast<int>(materials.size()) > printer.max_materials)
@@ -207,6 +226,22 @@ FractionPolicy parse_policy(const JsonView& node) {
       t->fail(fmt::format("the tolerance {} is not in [0, 1)", policy.tolerance));
   }
   return policy;
+}
+
+DitherParams parse_dithering(const JsonView& node) {
+  node.expect_object({"method", "serpentine", "vary_by_layer", "skin_voxels"});
+  DitherParams params;
+  if (const auto m = node.find("method")) {
+    if (!set_dither_method(m->string(), params)) {
+      std::string list;
+      for (std::string_view n : dither_method_names()) list += fmt::format("{}\"{}\"", list.empty() ? "" : ", ", n);
+      m->fail(fmt::format("unknown dithering method \"{}\"; the methods are {}", m->string(), list));
+    }
+  }
+  if (const auto s = node.find("serpentine")) params.serpentine = s->boolean();
+  if (const auto v = node.find("vary_by_layer")) params.vary_by_layer = v->boolean();
+  if (const auto k = node.find("skin_voxels")) params.skin_voxels = k->integer_in(0, DitherParams::kMaxSkinVoxels);
+  return params;
 }
 
 void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
@@ -244,7 +279,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
   top.expect_object({"$schema", "version", "description", "units", "printer", "materials",
-                     "fraction_sums", "cells"});
+                     "fraction_sums", "dithering", "cells"});
   if (const auto v = top.find("version"); v && v->integer() != 1)
     v->fail(fmt::format("this is scene format version {}; trivox reads version 1", v->integer()));
   if (const auto d = top.find("description")) d->string();
@@ -258,6 +293,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   scene.printer = parse_printer(top.at("printer"));
   scene.materials = parse_materials(top.at("materials"), scene.printer);
   if (const auto p = top.find("fraction_sums")) scene.fraction_policy = parse_policy(*p);
+  if (const auto d = top.find("dithering")) scene.dithering = parse_dithering(*d);
 
   detail::SceneContext ctx(src, source.parent_path());
   std::vector<std::string> names;

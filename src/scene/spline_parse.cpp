@@ -162,15 +162,34 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
   return parts;
 }
 
+std::filesystem::path SceneContext::existing_file(const JsonView& file_field, std::string_view what) const {
+  const std::string& name = file_field.string();
+  if (name.empty()) file_field.fail("the file name is empty");
+  std::filesystem::path path(name);
+  if (path.is_relative()) path = base_dir_ / path;
+  path = path.lexically_normal();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    file_field.fail(fmt::format("cannot read the {} \"{}\": there is no file {} (names are relative to the "
+                                "scene file's folder)", what, name, path.string()));
+  return path;
+}
+
 TensorSpline parse_field(const JsonView& node, SceneContext& ctx, int point_dim) {
   if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
-  if (!node.find("file")) return parse_inline_spline(node, 3, point_dim);
+  if (!node.find("file")) {
+    if (point_dim == kAnyPointDim) {
+      const JsonView first = node.at("points").elements(1).front();
+      point_dim = first.is_number() ? 1 : static_cast<int>(first.elements(1).size());
+    }
+    return parse_inline_spline(node, 3, point_dim);
+  }
   node.expect_object({"file", "patch"});
   const Model& model = ctx.model(node.at("file"));
   const std::vector<const Patch*> vols = trivariates(model);
   const std::size_t i = select_patch(node, vols, false);
   const TensorSpline& spline = vols[i]->spline;
-  if (spline.point_dim() != point_dim)
+  if (point_dim != kAnyPointDim && spline.point_dim() != point_dim)
     node.fail(fmt::format("trivariate {} {} of \"{}\" has {} component(s); this field needs {}", i,
                           patch_description(*vols[i]), node.at("file").string(), spline.point_dim(),
                           point_dim));

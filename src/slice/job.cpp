@@ -14,6 +14,7 @@
 
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
+#include "trivox/output/material_sheet.h"
 
 namespace trivox {
 
@@ -85,6 +86,12 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   });
   for (auto& f : files) stats.files.insert(stats.files.end(), f.begin(), f.end());
   std::sort(stats.files.begin(), stats.files.end());
+  std::vector<MaterialSheetRow> sheet;
+  for (const MaterialDef& m : scene.materials) sheet.push_back({m.name, m.library, m.rgba, 0});
+  for (const LayerStats& s : stats.layers)
+    for (std::size_t j = 0; j < s.voxels_per_material.size() && j < sheet.size(); ++j)
+      sheet[j].voxels += s.voxels_per_material[j];
+  write_material_sheet(params.output_dir / "materials.csv", params.background_rgba, sheet);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   write_stats_json(params.output_dir / "stats.json", slicer, stats);
   return stats;
@@ -123,6 +130,10 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
       {"printer", {{"name", slicer.scene().printer.name}, {"x_dpi", slicer.scene().printer.x_dpi},
                    {"y_dpi", slicer.scene().printer.y_dpi}, {"layer_mm", slicer.scene().printer.layer_thickness_mm}}},
       {"tracing", std::string(to_string(slicer.params().tracing))},
+      {"dithering", {{"method", std::string(dither_method_name(slicer.dither_params()))},
+                     {"serpentine", slicer.dither_params().serpentine},
+                     {"vary_by_layer", slicer.dither_params().vary_by_layer},
+                     {"skin_voxels", slicer.dither_params().skin_voxels}}},
       {"bitmap", {{"width_px", L.width_px}, {"height_px", L.height_px}, {"x0_mm", L.x0_mm}, {"y_top_mm", L.y_top_mm},
                   {"z0_mm", L.z0_mm}}},
       {"materials", materials},

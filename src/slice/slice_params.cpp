@@ -35,7 +35,7 @@ void SliceParams::validate() const {
   if (global.max_boxes < 1) throw Error("global.max_boxes must be at least 1");
   if (outline_tolerance_mm && !(*outline_tolerance_mm > 0 && std::isfinite(*outline_tolerance_mm)))
     throw Error(fmt::format("outline_tolerance_mm must be a positive number, got {}", *outline_tolerance_mm));
-  dither.validate();
+  if (dither) dither->validate();
 }
 
 }  // namespace trivox

@@ -21,6 +21,8 @@ struct Slicer::CellData {
 Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(std::move(params)) {
   params_.validate();
   scene.printer.validate();
+  dither_ = params_.dither.value_or(scene.dithering.value_or(DitherParams{}));
+  dither_.validate();
   outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(
       0.25 * std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
   Box3 bounds;
@@ -97,7 +99,7 @@ LayerResult Slicer::slice_layer(int layer) const {
   }
 
   st.seconds_inverse += lap(t);
-  result.labels = dither(grid, inside, params_.dither);
+  result.labels = dither(grid, inside, dither_, layer);
   st.seconds_dither = lap(t);
   st.voxels_per_material.assign(static_cast<std::size_t>(m), 0);
   for (std::uint8_t label : result.labels.values())

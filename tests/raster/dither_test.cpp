@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "raster/dither_kernels.h"
+#include "raster/skin.h"
 #include "trivox/error.h"
+#include "trivox/raster/blue_noise.h"
 
 namespace trivox {
 namespace {
@@ -26,7 +28,9 @@ struct ReferenceResult {
 };
 
 ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& inside,
-                                 bool serpentine) {
+                                 bool serpentine,
+                                 DiffusionKernel kernel = DiffusionKernel::kFloydSteinberg,
+                                 detail::ScanOrientation orientation = {}) {
   const int w = grid.width_px();
   const int h = grid.height_px();
   const int m = grid.num_materials();
@@ -35,12 +39,16 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
   auto err = [&](int x, int y, int c) -> std::int64_t& {
     return error[static_cast<std::size_t>((y * w + x) * c_count + c)];
   };
-  const std::span<const detail::DiffusionTap> taps =
-      detail::diffusion_taps(DiffusionKernel::kFloydSteinberg);
+  const std::span<const detail::DiffusionTap> taps = detail::diffusion_taps(kernel);
 
+  // The scan walks logical rows ly = 0 .. h - 1 top-down; a bottom-up orientation is the
+  // same walk over the image flipped upside down: image row y = h - 1 - ly.
+  const int flip = orientation.bottom_up ? 1 : 0;
+  auto image_y = [&](int ly) { return flip ? h - 1 - ly : ly; };
   ReferenceResult result{LabelImage(w, h), 0};
-  for (int y = 0; y < h; ++y) {
-    const bool reverse = serpentine && y % 2 == 1;
+  for (int ly = 0; ly < h; ++ly) {
+    const int y = image_y(ly);
+    const bool reverse = (serpentine && ly % 2 == 1) != orientation.first_row_reversed;
     for (int i = 0; i < w; ++i) {
       const int x = reverse ? w - 1 - i : i;
       if (!inside.inside(x, y)) continue;
@@ -72,8 +80,9 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
       std::vector<Receiver> receivers;
       for (const detail::DiffusionTap& tap : taps) {
         const int nx = x + (reverse ? -tap.dx : tap.dx);
-        const int ny = y + tap.dy;
-        if (nx >= 0 && nx < w && ny < h && inside.inside(nx, ny)) {
+        const int nly = ly + tap.dy;
+        if (nx >= 0 && nx < w && nly < h && inside.inside(nx, image_y(nly))) {
+          const int ny = image_y(nly);
           receivers.push_back({nx, ny, tap.weight});
         }
       }
@@ -93,6 +102,63 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
     }
   }
   return result;
+}
+
+// Blue-noise thresholding the slow way: the threshold as the exact rational (rank + 1/2) /
+// 4096, compared with running sums of the fractions (rounded to the same fixed-point grid
+// as the input of every method) scaled to the same denominator.
+LabelImage reference_blue_noise(const MaterialGrid& grid, const InsideMask& inside, int layer,
+                                bool vary) {
+  const auto& tile = blue_noise_tile();
+  const int m = grid.num_materials();
+  const detail::TileOffset off = detail::tile_offset(layer, vary);
+  LabelImage labels(grid.width_px(), grid.height_px());
+  for (int y = 0; y < grid.height_px(); ++y) {
+    for (int x = 0; x < grid.width_px(); ++x) {
+      if (!inside.inside(x, y)) continue;
+      const int tx = (x + off.dx) % kBlueNoiseTileSize, ty = (y + off.dy) % kBlueNoiseTileSize;
+      const std::int64_t rank = tile[static_cast<std::size_t>(ty * kBlueNoiseTileSize + tx)];
+      // threshold = (2 rank + 1) / 8192; component sums in units of 1 / 65536.
+      const std::int64_t threshold_num = (2 * rank + 1) * 8;  // in units of 1 / 65536
+      std::vector<std::int64_t> parts(static_cast<std::size_t>(m + 1));
+      std::int64_t total = 0;
+      for (int k = 0; k < m; ++k) {
+        parts[static_cast<std::size_t>(k + 1)] = detail::fraction_to_fixed(grid.at(x, y, k));
+        total += parts[static_cast<std::size_t>(k + 1)];
+      }
+      parts[0] = std::max<std::int64_t>(0, kDitherFixedOne - total);
+      std::int64_t running = 0;
+      int label = m;
+      for (int c = 0; c <= m; ++c) {
+        running += parts[static_cast<std::size_t>(c)];
+        if (threshold_num < running) {
+          label = c;
+          break;
+        }
+      }
+      labels.at(x, y) = static_cast<std::uint8_t>(label);
+    }
+  }
+  return labels;
+}
+
+// Every method by name, each with and without layer variation.
+std::vector<DitherParams> every_method() {
+  std::vector<DitherParams> all;
+  for (std::string_view name : dither_method_names()) {
+    for (bool vary : {true, false}) {
+      DitherParams p;
+      EXPECT_TRUE(set_dither_method(name, p)) << name;
+      p.vary_by_layer = vary;
+      all.push_back(p);
+    }
+  }
+  return all;
+}
+
+std::string describe(const DitherParams& p, int layer) {
+  return std::string(dither_method_name(p)) + (p.vary_by_layer ? " varied" : " fixed") +
+         " layer " + std::to_string(layer);
 }
 
 // ---- fixtures ----------------------------------------------------------------------------
@@ -195,9 +261,14 @@ TEST(DitherTest, MatchesReferenceBitForBit) {
     const InsideMask mask = random_mask(rng, w, h);
     DitherParams params;
     params.serpentine = trial % 2 == 0;
-    const LabelImage fast = dither(grid, mask, params);
-    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine);
-    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m;
+    params.kernel = static_cast<DiffusionKernel>(trial % 3);
+    const int layer = (trial / 2) % 5;
+    const LabelImage fast = dither(grid, mask, params, layer);
+    const ReferenceResult ref =
+        reference_dither(grid, mask, params.serpentine, params.kernel,
+                         detail::scan_orientation(layer, params.vary_by_layer));
+    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m
+                                << ", " << describe(params, layer);
     worst_error = std::max(worst_error, ref.max_abs_error);
   }
   // The fast version keeps errors in int32 (32768 units of kDitherFixedOne): far away.
@@ -209,8 +280,210 @@ TEST(DitherTest, LabelsAreMaterialsOrVoid) {
   for (int m : {1, 2, 3, 6, 17}) {
     const MaterialGrid grid = random_grid(rng, 64, 48, m);
     const InsideMask mask = random_mask(rng, 64, 48);
-    const LabelImage labels = dither(grid, mask);
-    for (std::uint8_t label : labels.values()) ASSERT_LE(label, m);
+    for (DitherParams params : every_method()) {
+      for (int skin : {0, 2}) {
+        params.skin_voxels = skin;
+        for (int layer : {0, 1, 6}) {
+          const LabelImage labels = dither(grid, mask, params, layer);
+          for (int y = 0; y < 48; ++y) {
+            for (int x = 0; x < 64; ++x) {
+              const std::uint8_t label = labels.at(x, y);
+              ASSERT_LE(label, m) << describe(params, layer);
+              if (!mask.inside(x, y)) {
+                ASSERT_EQ(label, LabelImage::kVoid) << describe(params, layer);
+              }
+            }
+          }
+        }
+      }
+    }
+  }
+}
+
+TEST(DitherTest, BlueNoiseMatchesReference) {
+  std::mt19937 rng(4242u);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int w = uniform_int(rng, 1, 150);
+    const int h = uniform_int(rng, 1, 90);
+    const int m = uniform_int(rng, 1, 6);
+    const MaterialGrid grid = random_grid(rng, w, h, m);
+    const InsideMask mask = random_mask(rng, w, h);
+    DitherParams params;
+    params.method = DitherMethod::kBlueNoise;
+    params.vary_by_layer = trial % 2 == 0;
+    const int layer = uniform_int(rng, 0, 200);
+    ASSERT_EQ(dither(grid, mask, params, layer),
+              reference_blue_noise(grid, mask, layer, params.vary_by_layer))
+        << "trial " << trial << ": " << describe(params, layer);
+  }
+}
+
+// The tile is a permutation of 0 .. 4095 and its thresholded patterns are even: every
+// aligned 8 x 8 block of the pattern for any level n holds close to n / 64 of its pixels
+// (a white-noise permutation misses by several pixels), and the sparsest patterns keep their
+// points apart.
+TEST(DitherTest, BlueNoiseTileIsAnEvenPermutation) {
+  const auto& tile = blue_noise_tile();
+  std::vector<int> seen(kBlueNoiseTileCells, 0);
+  for (std::uint16_t r : tile) {
+    ASSERT_LT(r, kBlueNoiseTileCells);
+    ++seen[r];
+  }
+  for (int count : seen) ASSERT_EQ(count, 1);
+
+  // The worst miss of an aligned 8 x 8 block against its share n / 64, over 15 levels.
+  auto worst_block_miss = [](const auto& ranks) {
+    int worst = 0;
+    for (int level = 256; level < kBlueNoiseTileCells; level += 256) {
+      for (int by = 0; by < kBlueNoiseTileSize; by += 8) {
+        for (int bx = 0; bx < kBlueNoiseTileSize; bx += 8) {
+          int on = 0;
+          for (int y = by; y < by + 8; ++y)
+            for (int x = bx; x < bx + 8; ++x) on += ranks[static_cast<std::size_t>(y * 64 + x)] < level ? 1 : 0;
+          worst = std::max(worst, std::abs(64 * on - level) / 64);
+        }
+      }
+    }
+    return worst;
+  };
+  std::vector<int> white(kBlueNoiseTileCells);
+  for (int i = 0; i < kBlueNoiseTileCells; ++i) white[static_cast<std::size_t>(i)] = i;
+  std::mt19937 rng(3u);
+  for (int i = kBlueNoiseTileCells - 1; i > 0; --i)
+    std::swap(white[static_cast<std::size_t>(i)], white[static_cast<std::size_t>(uniform_int(rng, 0, i))]);
+  const int blue_miss = worst_block_miss(tile);
+  const int white_miss = worst_block_miss(white);
+  RecordProperty("worst_block_miss_blue_px", blue_miss);
+  RecordProperty("worst_block_miss_white_px", white_miss);
+  EXPECT_LE(2 * blue_miss, white_miss);
+  EXPECT_LE(blue_miss, 6);
+
+  // The first 5 % of ranks: no two points closer than 2 pixels (toroidal distance).
+  std::vector<std::pair<int, int>> points;
+  for (int c = 0; c < kBlueNoiseTileCells; ++c)
+    if (tile[static_cast<std::size_t>(c)] < kBlueNoiseTileCells / 20) points.emplace_back(c % 64, c / 64);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    for (std::size_t j = i + 1; j < points.size(); ++j) {
+      int dx = std::abs(points[i].first - points[j].first), dy = std::abs(points[i].second - points[j].second);
+      dx = std::min(dx, 64 - dx);
+      dy = std::min(dy, 64 - dy);
+      ASSERT_GE(dx * dx + dy * dy, 4) << i << ", " << j;
+    }
+  }
+}
+
+// Blue noise depends on the pixel position only: dithering a crop that starts on a tile
+// boundary gives the crop of the whole, whatever the neighbours hold.
+TEST(DitherTest, BlueNoiseIsPositionDeterministic) {
+  std::mt19937 rng(11u);
+  const MaterialGrid grid = random_grid(rng, 200, 150, 3);
+  const InsideMask mask(200, 150, 1);
+  DitherParams params;
+  params.method = DitherMethod::kBlueNoise;
+  for (int layer : {0, 3}) {
+    const LabelImage whole = dither(grid, mask, params, layer);
+    MaterialGrid crop(70, 80, 3);
+    for (int y = 0; y < 80; ++y)
+      for (int x = 0; x < 70; ++x)
+        for (int k = 0; k < 3; ++k) crop.at(x, y, k) = grid.at(x + 128, y + 64, k);
+    // The crop starts at (128, 64), a multiple of the tile: the same tile cells.
+    const LabelImage part = dither(crop, InsideMask(70, 80, 1), params, layer);
+    for (int y = 0; y < 80; ++y)
+      for (int x = 0; x < 70; ++x) ASSERT_EQ(part.at(x, y), whole.at(x + 128, y + 64)) << x << ", " << y;
+  }
+}
+
+// Layer 0 is dithered as without variation; other layers get other patterns from the same
+// fractions (no pattern stacks up into vertical streaks), each still exact in the mean.
+TEST(DitherTest, LayerVariationChangesThePattern) {
+  MaterialGrid grid(96, 64, 2);
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 96; ++x) {
+      grid.at(x, y, 0) = 0.3f;
+      grid.at(x, y, 1) = 0.45f;
+    }
+  }
+  const InsideMask mask(96, 64, 1);
+  for (std::string_view name : dither_method_names()) {
+    DitherParams varied;
+    set_dither_method(name, varied);
+    DitherParams fixed = varied;
+    fixed.vary_by_layer = false;
+    EXPECT_EQ(dither(grid, mask, varied, 0), dither(grid, mask, fixed, 0)) << name;
+    std::vector<LabelImage> layers;
+    for (int layer = 0; layer < 4; ++layer) {
+      layers.push_back(dither(grid, mask, varied, layer));
+      EXPECT_EQ(dither(grid, mask, fixed, layer), layers.front()) << name << " layer " << layer;
+      EXPECT_NEAR(share(layers.back(), 0, 0, 96, 64, 1), 0.3, 0.01) << name;
+      EXPECT_NEAR(share(layers.back(), 0, 0, 96, 64, 2), 0.45, 0.01) << name;
+    }
+    for (int a = 0; a < 4; ++a)
+      for (int b = a + 1; b < 4; ++b) EXPECT_NE(layers[static_cast<std::size_t>(a)], layers[static_cast<std::size_t>(b)]) << name << " layers " << a << ", " << b;
+  }
+}
+
+// The chessboard depth against its definition: the smallest max(|dx|, |dy|) to an outside
+// pixel or to a pixel beyond the border.
+TEST(DitherTest, SkinDepthMatchesBruteForce) {
+  std::mt19937 rng(5u);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int w = uniform_int(rng, 1, 40), h = uniform_int(rng, 1, 30);
+    const InsideMask mask = random_mask(rng, w, h);
+    const auto depth = detail::chessboard_depth(mask, 1000);
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x < w; ++x) {
+        int expected = 0;
+        if (mask.inside(x, y)) {
+          expected = std::min({x + 1, y + 1, w - x, h - y});
+          for (int yy = 0; yy < h; ++yy)
+            for (int xx = 0; xx < w; ++xx)
+              if (!mask.inside(xx, yy)) expected = std::min(expected, std::max(std::abs(xx - x), std::abs(yy - y)));
+        }
+        ASSERT_EQ(depth.at(x, y), expected) << "trial " << trial << " at " << x << ", " << y;
+      }
+    }
+  }
+}
+
+// The skin takes the nearest pure label; the core is dithered exactly as a part whose mask
+// is the core alone, so no error crosses between skin and core.
+TEST(DitherTest, SkinIsPureAndSeparate) {
+  std::mt19937 rng(17u);
+  constexpr int kW = 70, kH = 50, kSkin = 3;
+  const MaterialGrid grid = random_grid(rng, kW, kH, 3);
+  InsideMask mask(kW, kH, 0);
+  for (int y = 5; y < 45; ++y)
+    for (int x = 4; x < 66; ++x) mask.at(x, y) = (x - 35) * (x - 35) / 4 + (y - 25) * (y - 25) < 500 ? 1 : 0;
+  for (DitherParams params : every_method()) {
+    params.skin_voxels = kSkin;
+    const LabelImage labels = dither(grid, mask, params, 1);
+    const auto depth = detail::chessboard_depth(mask, kSkin + 1);
+    InsideMask core(kW, kH, 0);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) core.at(x, y) = depth.at(x, y) > kSkin ? 1 : 0;
+    DitherParams no_skin = params;
+    no_skin.skin_voxels = 0;
+    const LabelImage core_only = dither(grid, core, no_skin, 1);
+    for (int y = 0; y < kH; ++y) {
+      for (int x = 0; x < kW; ++x) {
+        const int d = depth.at(x, y);
+        if (d == 0 || d > kSkin) {
+          ASSERT_EQ(labels.at(x, y), core_only.at(x, y)) << describe(params, 1);
+          continue;
+        }
+        // Nearest pure label: the largest component, void first on ties.
+        std::int32_t best_value = kDitherFixedOne;
+        for (int k = 0; k < 3; ++k) best_value -= detail::fraction_to_fixed(grid.at(x, y, k));
+        int best = 0;
+        for (int k = 0; k < 3; ++k) {
+          if (detail::fraction_to_fixed(grid.at(x, y, k)) > best_value) {
+            best_value = detail::fraction_to_fixed(grid.at(x, y, k));
+            best = k + 1;
+          }
+        }
+        ASSERT_EQ(labels.at(x, y), best) << describe(params, 1) << " at " << x << ", " << y;
+      }
+    }
   }
 }
 
@@ -219,9 +492,11 @@ TEST(DitherTest, ConstantFractionGivesItsShare) {
   for (int y = 0; y < 256; ++y) {
     for (int x = 0; x < 256; ++x) grid.at(x, y, 0) = 0.3f;
   }
-  const LabelImage labels = dither(grid, InsideMask(256, 256, 1));
-  EXPECT_NEAR(share(labels, 0, 0, 256, 256, 1), 0.3, 0.01);
-  EXPECT_NEAR(share(labels, 0, 0, 256, 256, LabelImage::kVoid), 0.7, 0.01);
+  for (const DitherParams& params : every_method()) {
+    const LabelImage labels = dither(grid, InsideMask(256, 256, 1), params, 5);
+    EXPECT_NEAR(share(labels, 0, 0, 256, 256, 1), 0.3, 0.01) << describe(params, 5);
+    EXPECT_NEAR(share(labels, 0, 0, 256, 256, LabelImage::kVoid), 0.7, 0.01) << describe(params, 5);
+  }
 
   MaterialGrid three(256, 256, 3);
   for (int y = 0; y < 256; ++y) {
@@ -231,11 +506,13 @@ TEST(DitherTest, ConstantFractionGivesItsShare) {
       three.at(x, y, 2) = 0.1f;
     }
   }
-  const LabelImage mixed = dither(three, InsideMask(256, 256, 1));
-  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 1), 0.3, 0.01);
-  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 2), 0.2, 0.01);
-  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 3), 0.1, 0.01);
-  EXPECT_NEAR(share(mixed, 0, 0, 256, 256, LabelImage::kVoid), 0.4, 0.01);
+  for (const DitherParams& params : every_method()) {
+    const LabelImage mixed = dither(three, InsideMask(256, 256, 1), params, 2);
+    EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 1), 0.3, 0.01) << describe(params, 2);
+    EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 2), 0.2, 0.01) << describe(params, 2);
+    EXPECT_NEAR(share(mixed, 0, 0, 256, 256, 3), 0.1, 0.01) << describe(params, 2);
+    EXPECT_NEAR(share(mixed, 0, 0, 256, 256, LabelImage::kVoid), 0.4, 0.01) << describe(params, 2);
+  }
 }
 
 // The slicer's requirement: a two-material linear gradient across x keeps every 64 x 64
@@ -252,10 +529,14 @@ TEST(DitherTest, GradientMatchesEveryWindow) {
       grid.at(x, y, 1) = 1.0f - t;
     }
   }
-  for (bool serpentine : {true, false}) {
-    DitherParams params;
-    params.serpentine = serpentine;
-    const LabelImage labels = dither(grid, InsideMask(kSize, kSize, 1), params);
+  std::vector<std::pair<DitherParams, int>> cases;
+  for (const DitherParams& p : every_method())
+    for (int layer : {0, 1, 2, 3}) cases.emplace_back(p, layer);
+  DitherParams raster;
+  raster.serpentine = false;
+  cases.emplace_back(raster, 0);
+  for (const auto& [params, layer] : cases) {
+    const LabelImage labels = dither(grid, InsideMask(kSize, kSize, 1), params, layer);
     double worst = 0.0;
     // Every window position on a 16-pixel lattice, which includes the 64 disjoint windows.
     for (int y0 = 0; y0 + kWindow <= kSize; y0 += 16) {
@@ -264,12 +545,12 @@ TEST(DitherTest, GradientMatchesEveryWindow) {
         for (int x = x0; x < x0 + kWindow; ++x) mean_t += t_of(x) / kWindow;
         const double a = share(labels, x0, y0, kWindow, kWindow, 1);
         const double b = share(labels, x0, y0, kWindow, kWindow, 2);
-        EXPECT_NEAR(a, mean_t, 0.01) << "window at " << x0 << ", " << y0;
-        EXPECT_NEAR(b, 1.0 - mean_t, 0.01) << "window at " << x0 << ", " << y0;
+        EXPECT_NEAR(a, mean_t, 0.01) << "window at " << x0 << ", " << y0 << ", " << describe(params, layer);
+        EXPECT_NEAR(b, 1.0 - mean_t, 0.01) << "window at " << x0 << ", " << y0 << ", " << describe(params, layer);
         worst = std::max({worst, std::abs(a - mean_t), std::abs(b - (1.0 - mean_t))});
       }
     }
-    RecordProperty(serpentine ? "worst_window_error_serpentine" : "worst_window_error_raster",
+    RecordProperty("worst_window_error_" + describe(params, layer) + (params.serpentine ? "" : " raster"),
                    std::to_string(worst));
   }
 }
@@ -281,10 +562,12 @@ TEST(DitherTest, MaskedPixelsStayBackground) {
     for (int x = 0; x < 80; ++x) grid.at(x, y, 0) = 1.0f;  // material everywhere, even outside
   }
   const InsideMask mask = random_mask(rng, 80, 60);
-  const LabelImage labels = dither(grid, mask);
-  for (int y = 0; y < 60; ++y) {
-    for (int x = 0; x < 80; ++x) {
-      EXPECT_EQ(labels.at(x, y), mask.inside(x, y) ? 1 : LabelImage::kVoid) << x << ", " << y;
+  for (const DitherParams& params : every_method()) {
+    const LabelImage labels = dither(grid, mask, params, 3);
+    for (int y = 0; y < 60; ++y) {
+      for (int x = 0; x < 80; ++x) {
+        ASSERT_EQ(labels.at(x, y), mask.inside(x, y) ? 1 : LabelImage::kVoid) << x << ", " << y << ", " << describe(params, 3);
+      }
     }
   }
 }
@@ -386,6 +669,21 @@ TEST(DitherTest, RejectsBadInput) {
   DitherParams bad_kernel;
   bad_kernel.kernel = static_cast<DiffusionKernel>(99);
   EXPECT_THROW(bad_kernel.validate(), Error);
+  DitherParams bad_method;
+  bad_method.method = static_cast<DitherMethod>(7);
+  EXPECT_THROW(bad_method.validate(), Error);
+  DitherParams bad_skin;
+  bad_skin.skin_voxels = -1;
+  EXPECT_THROW(bad_skin.validate(), Error);
+  bad_skin.skin_voxels = DitherParams::kMaxSkinVoxels + 1;
+  EXPECT_THROW(bad_skin.validate(), Error);
+  EXPECT_THROW(dither(grid, mask, DitherParams{}, -1), Error);
+  DitherParams named;
+  EXPECT_FALSE(set_dither_method("floyd", named));
+  for (std::string_view name : dither_method_names()) {
+    EXPECT_TRUE(set_dither_method(name, named));
+    EXPECT_EQ(dither_method_name(named), name);
+  }
 
   auto message_for = [&](const MaterialGrid& g) -> std::string {
     try {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/scene_test_util.h"
+#include "trivox/printer/material_library.h"
 #include "trivox/scene/scene.h"
 
 namespace trivox {
@@ -55,6 +56,56 @@ TEST(SceneReader, MinimalScene) {
   cell.material->evaluate({0.5, 0.5, 0.5}, {5, 5, 5}, f);
   EXPECT_EQ(f, (std::vector<float>{0.25f, 0.5f}));
   EXPECT_EQ(scene.bounds().hi, (Vec3{10, 10, 10}));
+}
+
+TEST(SceneReader, DitheringSettings) {
+  auto j = minimal_scene();
+  EXPECT_FALSE(parse_scene(j.dump(), "s.json").dithering.has_value());
+  j["dithering"] = {{"method", "jarvis-judice-ninke"}, {"serpentine", false}, {"vary_by_layer", false}, {"skin_voxels", 3}};
+  const Scene scene = parse_scene(j.dump(), "s.json");
+  ASSERT_TRUE(scene.dithering.has_value());
+  EXPECT_EQ(scene.dithering->method, DitherMethod::kErrorDiffusion);
+  EXPECT_EQ(scene.dithering->kernel, DiffusionKernel::kJarvisJudiceNinke);
+  EXPECT_FALSE(scene.dithering->serpentine);
+  EXPECT_FALSE(scene.dithering->vary_by_layer);
+  EXPECT_EQ(scene.dithering->skin_voxels, 3);
+  j["dithering"] = {{"method", "blue-noise"}};
+  EXPECT_EQ(parse_scene(j.dump(), "s.json").dithering->method, DitherMethod::kBlueNoise);
+
+  j["dithering"] = {{"method", "ordered"}};
+  test::expect_scene_error(j.dump(), "/dithering/method", "unknown dithering method \"ordered\"");
+  j["dithering"] = {{"skin_voxels", -1}};
+  test::expect_scene_error(j.dump(), "/dithering/skin_voxels", "-1");
+  j["dithering"] = {{"kernel", "stucki"}};
+  test::expect_scene_error(j.dump(), "/dithering/kernel", "unknown key");
+}
+
+// Materials may be named from the printer library: a plain name, or an object without a
+// colour; a cell's material may be a plain material name.
+TEST(SceneReader, LibraryMaterials) {
+  auto j = minimal_scene();
+  j["materials"] = {"VeroCyan", {{"name", "agilus30 black"}}, {{"name", "VeroMagenta"}, {"rgba", "#102030"}}};
+  j["cells"][0]["material"] = "VeroMagenta";
+  const Scene scene = parse_scene(j.dump(), "s.json");
+  ASSERT_EQ(scene.num_materials(), 3);
+  EXPECT_EQ(scene.materials[0].name, "VeroCyan");
+  EXPECT_EQ(scene.materials[0].library, "VeroCyan");
+  EXPECT_EQ(scene.materials[0].rgba, find_library_material("VeroCyan")->rgba);
+  EXPECT_EQ(scene.materials[1].name, "agilus30 black");  // an object keeps its own spelling
+  EXPECT_EQ(scene.materials[1].library, "Agilus30Black");
+  EXPECT_EQ(scene.materials[1].rgba, find_library_material("Agilus30Black")->rgba);
+  EXPECT_EQ(scene.materials[2].rgba, (std::array<std::uint8_t, 4>{0x10, 0x20, 0x30, 255}));  // given colour wins
+  EXPECT_EQ(scene.materials[2].library, "VeroMagenta");
+  std::vector<float> f(3);
+  scene.cells[0].material->evaluate({0.5, 0.5, 0.5}, {5, 5, 5}, f);
+  EXPECT_EQ(f, (std::vector<float>{0.0f, 0.0f, 1.0f}));
+
+  j["materials"] = {"VeroCyan", "Unobtainium"};
+  j["cells"][0]["material"] = "VeroCyan";
+  test::expect_scene_error(j.dump(), "/materials/1", "not a library material");
+  j["materials"] = {"VeroCyan"};
+  j["cells"][0]["material"] = "VeroYellow";
+  test::expect_scene_error(j.dump(), "/cells/0/material", "unknown material \"VeroYellow\"");
 }
 
 TEST(SceneReader, PrinterProfiles) {

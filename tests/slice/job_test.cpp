@@ -63,6 +63,81 @@ TEST(SliceJob, OutputIsIdenticalForOneAndTwoThreads) {
   }
 }
 
+// Every dithering method, with layer variation and a skin: the same bytes for one and two
+// threads (blue noise is seeded by voxel position, error diffusion runs within a layer).
+TEST(SliceJob, EveryDitherMethodIsIndependentOfTheThreadCount) {
+  const Scene scene = two_material_scene();
+  for (std::string_view name : dither_method_names()) {
+    SliceParams params;
+    DitherParams d;
+    ASSERT_TRUE(set_dither_method(name, d));
+    d.skin_voxels = 1;
+    params.dither = d;
+    const Slicer slicer(scene, params);
+    std::vector<fs::path> dirs;
+    std::vector<std::vector<std::string>> file_lists;
+    for (int threads : {1, 2}) {
+      JobParams p;
+      p.output_dir = fresh_dir(fmt::format("method-{}-threads{}", name, threads));
+      p.threads = threads;
+      p.min_layers = 0;
+      file_lists.push_back(run_slice_job(slicer, p).files);
+      dirs.push_back(p.output_dir);
+    }
+    ASSERT_FALSE(file_lists[0].empty());
+    ASSERT_EQ(file_lists[0], file_lists[1]);
+    for (const std::string& f : file_lists[0]) EXPECT_EQ(read_bytes(dirs[0] / f), read_bytes(dirs[1] / f)) << name << ": " << f;
+    EXPECT_EQ(read_bytes(dirs[0] / "materials.csv"), read_bytes(dirs[1] / "materials.csv")) << name;
+    const auto stats = nlohmann::json::parse(read_bytes(dirs[0] / "stats.json"));
+    EXPECT_EQ(stats["dithering"]["method"], std::string(name));
+    EXPECT_EQ(stats["dithering"]["skin_voxels"], 1);
+  }
+}
+
+// The scene's dithering applies unless the slice parameters give their own.
+TEST(SliceJob, SceneDitheringAppliesUnlessOverridden) {
+  Scene scene = two_material_scene();
+  DitherParams from_scene;
+  set_dither_method("stucki", from_scene);
+  scene.dithering = from_scene;
+  EXPECT_EQ(dither_method_name(Slicer(scene, {}).dither_params()), "stucki");
+  SliceParams params;
+  params.dither = DitherParams{};
+  params.dither->method = DitherMethod::kBlueNoise;
+  EXPECT_EQ(dither_method_name(Slicer(scene, params).dither_params()), "blue-noise");
+  scene.dithering.reset();
+  EXPECT_EQ(dither_method_name(Slicer(scene, {}).dither_params()), "floyd-steinberg");
+}
+
+// materials.csv: the background and every material with its colour and voxel count, the
+// counts those of stats.json.
+TEST(SliceJob, WritesTheColourToMaterialSheet) {
+  Scene scene = two_material_scene();
+  scene.materials[0].name = "Vero, \"quoted\"";
+  scene.materials[1].library = "VeroCyan";
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fresh_dir("sheet");
+  p.min_layers = 0;
+  p.background_rgba = {1, 2, 3, 4};
+  run_slice_job(slicer, p);
+  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  const auto voxels = stats["total"]["voxels_per_material"];
+  const std::string expected =
+      "label,name,library,hex,r,g,b,a,voxels\n"
+      "0,background,,#01020304,1,2,3,4,\n" +
+      fmt::format("1,\"Vero, \"\"quoted\"\"\",,#{:02X}{:02X}{:02X}{:02X},{},{},{},{},{}\n", scene.materials[0].rgba[0],
+                  scene.materials[0].rgba[1], scene.materials[0].rgba[2], scene.materials[0].rgba[3],
+                  scene.materials[0].rgba[0], scene.materials[0].rgba[1], scene.materials[0].rgba[2],
+                  scene.materials[0].rgba[3], voxels[0].get<std::int64_t>()) +
+      fmt::format("2,m1,VeroCyan,#{:02X}{:02X}{:02X}{:02X},{},{},{},{},{}\n", scene.materials[1].rgba[0],
+                  scene.materials[1].rgba[1], scene.materials[1].rgba[2], scene.materials[1].rgba[3],
+                  scene.materials[1].rgba[0], scene.materials[1].rgba[1], scene.materials[1].rgba[2],
+                  scene.materials[1].rgba[3], voxels[1].get<std::int64_t>());
+  EXPECT_EQ(read_bytes(p.output_dir / "materials.csv"), expected);
+  EXPECT_GT(voxels[0].get<std::int64_t>() + voxels[1].get<std::int64_t>(), 0);
+}
+
 TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
   const Scene scene = two_material_scene();
   const Slicer slicer(scene, {});

@@ -28,7 +28,7 @@ inline Scene scene_with(std::vector<Cell> cells, int num_materials, const std::s
   const std::array<std::array<std::uint8_t, 4>, 4> colours = {
       {{0, 255, 255, 255}, {255, 0, 255, 255}, {255, 255, 0, 255}, {0, 0, 0, 255}}};
   for (int j = 0; j < num_materials; ++j)
-    s.materials.push_back({std::string("m").append(std::to_string(j)), colours[static_cast<std::size_t>(j)]});
+    s.materials.push_back({std::string("m").append(std::to_string(j)), colours[static_cast<std::size_t>(j)], {}});
   s.cells = std::move(cells);
   return s;
 }

@@ -8,6 +8,7 @@
 // SplineFieldMaterial).
 #pragma once
 
+#include <span>
 #include <vector>
 
 #include "trivox/material/material_function.h"
@@ -19,6 +20,14 @@ struct GradientStop {
   double value = 0.0;            // field value, in the field's own units
   std::vector<float> fractions;  // one per material
 };
+
+// Throws Error naming the stop unless there is at least one stop, values are finite and
+// non-decreasing, and every stop has as many finite fractions as the first.
+void validate_gradient_stops(const std::vector<GradientStop>& stops);
+
+// The ramp of `stops` (non-decreasing values, m fractions each) at value s: writes m
+// fractions to out. NaN in gives NaN out (for the fraction policy to report).
+void gradient_ramp(std::span<const GradientStop> stops, double s, std::span<float> out) noexcept;
 
 class ScalarGradientMaterial final : public MaterialFunction {
  public:

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "trivox/material/material_function.h"
 #include "trivox/math.h"
 #include "trivox/printer/printer_profile.h"
+#include "trivox/raster/dither.h"
 #include "trivox/spline/volume.h"
 
 namespace trivox {
@@ -25,6 +27,9 @@ struct MaterialDef {
   // sRGB colour and alpha (255 = opaque) used for this material in printer images and
   // previews.
   std::array<std::uint8_t, 4> rgba{0, 0, 0, 255};
+  // The library material (printer/material_library.h) the name matches, in the library's
+  // spelling; empty for a custom material.
+  std::string library;
 };
 
 struct Cell {
@@ -44,6 +49,9 @@ struct Scene {
   PrinterProfile printer;
   std::vector<MaterialDef> materials;  // material j of every material function is materials[j]
   FractionPolicy fraction_policy;
+  // The scene's "dithering" settings; absent: the slicer's defaults (SliceParams::dither
+  // overrides either).
+  std::optional<DitherParams> dithering;
   std::vector<Cell> cells;
 
   int num_materials() const noexcept { return static_cast<int>(materials.size()); }

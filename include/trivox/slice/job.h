@@ -47,7 +47,8 @@ class ProgressSink {
   virtual void on_layer_done(int done, int total) = 0;
 };
 
-// Slices and writes the layers; writes stats.json last. Throws trivox::Error for settings the
+// Slices and writes the layers, then the colour-to-material sheet materials.csv
+// (output/material_sheet.h); writes stats.json last. Throws trivox::Error for settings the
 // printer cannot take (more materials than its colour limit), IoError when the folder or a
 // file cannot be written.
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress = nullptr);

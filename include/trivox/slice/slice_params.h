@@ -41,7 +41,8 @@ struct SliceParams {
   // whose centres lie within this distance of the outline are decided by the exact inverse;
   // the rest by the outline. A quarter of the finest pixel pitch by default.
   std::optional<double> outline_tolerance_mm;
-  DitherParams dither;
+  // The dithering; absent: the scene's "dithering" settings, else DitherParams' defaults.
+  std::optional<DitherParams> dither;
 
   // Throws trivox::Error naming the field.
   void validate() const;

@@ -47,6 +47,8 @@ class Slicer {
   const SliceLayout& layout() const noexcept { return layout_; }
   const SliceParams& params() const noexcept { return params_; }
   const Scene& scene() const noexcept { return scene_; }
+  // The dithering in effect: params().dither, else the scene's, else the defaults.
+  const DitherParams& dither_params() const noexcept { return dither_; }
 
   // Slices layer `layer` (0 .. layout().num_layers - 1). Safe to call from several threads
   // at once; the result depends only on the scene, the parameters and `layer`.
@@ -56,6 +58,7 @@ class Slicer {
   struct CellData;
   const Scene& scene_;
   SliceParams params_;
+  DitherParams dither_;
   double outline_tolerance_mm_ = 0;
   SliceLayout layout_;
   std::vector<std::unique_ptr<CellData>> cells_;
