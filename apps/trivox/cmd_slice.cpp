@@ -1,5 +1,8 @@
 // `trivox slice SCENE -o DIR`: printer-ready slices of a scene (docs/CLI.md#slice).
+#include <signal.h>
 #include <unistd.h>
+
+#include <atomic>
 
 #include <chrono>
 #include <cstdio>
@@ -14,6 +17,7 @@
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
+#include "trivox/slice/manifest.h"
 
 namespace trivox::cli {
 
@@ -30,7 +34,45 @@ struct SliceOptions {
   std::vector<int> background{255, 255, 255, 255};
   int min_layers = 30;
   bool quiet = false;
+  bool resume = false;
+  std::string shard;
 };
+
+// Set by SIGINT / SIGTERM; the job stops starting layers once it is set. The handler is
+// reset after the first signal, so a second Ctrl-C ends the program at once (the job can
+// still be resumed: files are atomic and the manifest lags by at most a second).
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+// "I/N" with 1 <= I <= N.
+void parse_shard(const std::string& text, JobParams& p) {
+  if (text.empty()) return;
+  const auto slash = text.find('/');
+  bool ok = slash != std::string::npos;
+  if (ok) {
+    try {
+      std::size_t used_i = 0, used_n = 0;
+      p.shard_index = std::stoi(text.substr(0, slash), &used_i);
+      p.shard_count = std::stoi(text.substr(slash + 1), &used_n);
+      ok = used_i == slash && used_n == text.size() - slash - 1;
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || p.shard_count < 1 || p.shard_index < 1 || p.shard_index > p.shard_count)
+    throw UsageError(fmt::format("--shard takes I/N with 1 <= I <= N (e.g. 2/4), got '{}'", text));
+}
 
 // A progress bar with an ETA on a terminal; a line every 10% otherwise (logs, pipes).
 class TerminalProgress final : public ProgressSink {
@@ -91,6 +133,9 @@ void run(const SliceOptions& o) {
     job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
   }
   parse_layers(o.layers, job);
+  parse_shard(o.shard, job);
+  job.resume = o.resume;
+  job.stop = &g_stop;
 
   const Scene scene = read_scene(o.scene);
   const Slicer slicer(scene, params);
@@ -100,7 +145,12 @@ void run(const SliceOptions& o) {
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
   TerminalProgress progress(o.quiet);
+  install_stop_handlers();
   const JobStats st = run_slice_job(slicer, job, &progress);
+  const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
+  if (st.interrupted)
+    throw InterruptedError(fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
+                                       st.layers.size(), manifest));
 
   std::int64_t inside = 0, global = 0;
   for (const LayerStats& s : st.layers) {
@@ -111,9 +161,12 @@ void run(const SliceOptions& o) {
              L.height_px, o.output, st.seconds, st.threads);
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
+  if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
+  if (job.shard_count > 1)
+    fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index, job.shard_count, o.output);
   if (st.padded_layers > 0)
     fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers, job.min_layers);
-  fmt::print("statistics: {}\n", (std::filesystem::path(o.output) / "stats.json").string());
+  fmt::print("manifest: {}\n", manifest);
 }
 
 }  // namespace
@@ -137,6 +190,9 @@ void add_slice_command(CLI::App& app) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress output");
+  cmd->add_flag("--resume", opts->resume,
+                "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
+  cmd->add_option("--shard", opts->shard, "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
   cmd->callback([opts] { run(*opts); });
 }
 

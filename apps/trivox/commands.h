@@ -28,8 +28,14 @@ void add_probe_command(CLI::App& app);
 // `trivox slice SCENE -o DIR`: printer-ready layer images of a scene, with stats.json.
 void add_slice_command(CLI::App& app);
 
+// `trivox merge DIR`: one manifest.json from the shard manifests of a split job.
+void add_merge_command(CLI::App& app);
+
+// `trivox verify DIR`: re-hashes and decodes every file manifest.json lists.
+void add_verify_command(CLI::App& app);
+
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 3> kCommands = {&add_slice_command, &add_info_command,
-                                                        &add_probe_command};
+inline constexpr std::array<AddCommand, 5> kCommands = {&add_slice_command, &add_merge_command, &add_verify_command,
+                                                        &add_info_command, &add_probe_command};
 
 }  // namespace trivox::cli

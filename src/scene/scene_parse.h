@@ -13,6 +13,7 @@
 #include "scene/json_view.h"
 #include "trivox/io/model.h"
 #include "trivox/material/material_function.h"
+#include "trivox/scene/scene.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
@@ -36,12 +37,15 @@ class SceneContext {
 
   // The model file a string field names, relative to the scene's folder; read once per scene.
   const Model& model(const JsonView& file_field);
+  // The files model() read, with their SHA-256, in first-use order.
+  const std::vector<SceneInputFile>& input_files() const noexcept { return input_files_; }
 
  private:
   std::string source_;
   std::filesystem::path base_dir_;
   std::vector<std::string> material_names_;
   std::map<std::string, Model> models_;  // by resolved path
+  std::vector<SceneInputFile> input_files_;
 };
 
 // One trivariate of a cell's geometry and the label that tells several apart ("" for the
