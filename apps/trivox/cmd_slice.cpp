@@ -166,6 +166,7 @@ void run(const SliceOptions& o) {
     fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index, job.shard_count, o.output);
   if (st.padded_layers > 0)
     fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers, job.min_layers);
+  fmt::print("statistics: {}\n", (std::filesystem::path(o.output) / (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count) : std::string("stats.json"))).string());
   fmt::print("manifest: {}\n", manifest);
 }
 
