@@ -14,9 +14,11 @@
 
 #include "cli_errors.h"
 #include "commands.h"
+#include "job_options.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
+#include "trivox/slice/job_estimate.h"
 #include "trivox/slice/manifest.h"
 
 namespace trivox::cli {
@@ -24,18 +26,9 @@ namespace trivox::cli {
 namespace {
 
 struct SliceOptions {
-  std::string scene;
-  std::string output;
-  int threads = 0;
-  std::string layers;
-  std::string tracing = "full";
-  std::vector<std::string> formats{"voxelprint"};
-  std::string prefix = "slice_";
-  std::vector<int> background{255, 255, 255, 255};
-  int min_layers = 30;
+  JobOptions job;
   bool quiet = false;
   bool resume = false;
-  std::string shard;
 };
 
 // Set by SIGINT / SIGTERM; the job stops starting layers once it is set. The handler is
@@ -53,25 +46,6 @@ void install_stop_handlers() {
   action.sa_flags = SA_RESETHAND;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
-}
-
-// "I/N" with 1 <= I <= N.
-void parse_shard(const std::string& text, JobParams& p) {
-  if (text.empty()) return;
-  const auto slash = text.find('/');
-  bool ok = slash != std::string::npos;
-  if (ok) {
-    try {
-      std::size_t used_i = 0, used_n = 0;
-      p.shard_index = std::stoi(text.substr(0, slash), &used_i);
-      p.shard_count = std::stoi(text.substr(slash + 1), &used_n);
-      ok = used_i == slash && used_n == text.size() - slash - 1;
-    } catch (const std::exception&) {
-      ok = false;
-    }
-  }
-  if (!ok || p.shard_count < 1 || p.shard_index < 1 || p.shard_index > p.shard_count)
-    throw UsageError(fmt::format("--shard takes I/N with 1 <= I <= N (e.g. 2/4), got '{}'", text));
 }
 
 // A progress bar with an ETA on a terminal; a line every 10% otherwise (logs, pipes).
@@ -100,51 +74,38 @@ class TerminalProgress final : public ProgressSink {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// "a:b" (1-based, inclusive, as in the file names; either end may be left out).
-void parse_layers(const std::string& text, JobParams& p) {
-  if (text.empty()) return;
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
-  try {
-    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
-    if (!a.empty()) p.first_layer = std::stoi(a) - 1;
-    if (!b.empty()) p.last_layer = std::stoi(b) - 1;
-  } catch (const std::exception&) {
-    throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
-  }
-  if (p.first_layer < 0 || (p.last_layer >= 0 && p.last_layer < p.first_layer))
-    throw UsageError(fmt::format("--layers {}: layers count from 1 and FIRST must not exceed LAST", text));
+// Bytes of the files a resumed job already has (they need no new space); 0 without a manifest.
+std::uint64_t bytes_already_written(const JobParams& job) {
+  const auto path = job.output_dir / manifest_file_name(job.shard_index, job.shard_count);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return 0;
+  std::uint64_t bytes = 0;
+  for (const ManifestFile& f : read_manifest(path).files) bytes += f.bytes;
+  return bytes;
 }
 
-void run(const SliceOptions& o) {
-  SliceParams params;
-  const auto strategy = parse_tracing_strategy(o.tracing);
-  if (!strategy) throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line or full, got '{}'", o.tracing));
-  params.tracing = *strategy;
-  JobParams job;
-  job.output_dir = o.output;
-  job.threads = o.threads;
-  job.formats = o.formats;
-  job.prefix = o.prefix;
-  job.min_layers = o.min_layers;
-  if (o.background.size() != 4) throw UsageError("--background takes four numbers R,G,B,A");
-  for (std::size_t i = 0; i < 4; ++i) {
-    if (o.background[i] < 0 || o.background[i] > 255) throw UsageError("--background values are 0..255");
-    job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
-  }
-  parse_layers(o.layers, job);
-  parse_shard(o.shard, job);
-  job.resume = o.resume;
+void run(const SliceOptions& so) {
+  const JobOptions& o = so.job;
+  const SliceParams params = slice_params_of(o);
+  JobParams job = job_params_of(o);
+  job.resume = so.resume;
   job.stop = &g_stop;
 
   const Scene scene = read_scene(o.scene);
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
-  if (!o.quiet)
+  if (!o.no_checks) {
+    // One sample layer is enough to refuse a job that is far too big; `trivox validate`
+    // samples more for a closer estimate.
+    JobEstimate estimate = estimate_job(slicer, job, EstimateParams{1});
+    if (so.resume) estimate.output_bytes -= std::min(estimate.output_bytes, bytes_already_written(job));
+    check_job_fits(estimate, job, memory_limit_of(o));
+  }
+  if (!so.quiet)
     fmt::print(stderr, "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} mm layers)\n",
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
-  TerminalProgress progress(o.quiet);
+  TerminalProgress progress(so.quiet);
   install_stop_handlers();
   const JobStats st = run_slice_job(slicer, job, &progress);
   const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
@@ -175,25 +136,10 @@ void run(const SliceOptions& o) {
 void add_slice_command(CLI::App& app) {
   auto opts = std::make_shared<SliceOptions>();
   CLI::App* cmd = app.add_subcommand("slice", "Slice a scene into printer-ready layer images");
-  cmd->add_option("scene", opts->scene, "Scene file (JSON, docs/SCENE.md)")->required();
-  cmd->add_option("-o,--output", opts->output, "Output folder (created if missing)")->required();
-  cmd->add_option("-j,--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--layers", opts->layers, "Only layers FIRST:LAST (1-based, inclusive)");
-  cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full")
-      ->capture_default_str();
-  cmd->add_option("--format", opts->formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
-      ->delimiter(',')
-      ->check(CLI::IsMember(layer_writer_names()))
-      ->capture_default_str();
-  cmd->add_option("--prefix", opts->prefix, "File-name prefix of the layer images")->capture_default_str();
-  cmd->add_option("--background", opts->background, "Background colour R,G,B,A")->delimiter(',')->capture_default_str();
-  cmd->add_option("--min-layers", opts->min_layers, "Pad with empty layers up to this count")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_job_options(*cmd, opts->job, true);
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress output");
   cmd->add_flag("--resume", opts->resume,
                 "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
-  cmd->add_option("--shard", opts->shard, "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
   cmd->callback([opts] { run(*opts); });
 }
 

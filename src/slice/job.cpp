@@ -111,15 +111,21 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
   return m;
 }
 
-JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress) {
-  const auto start = std::chrono::steady_clock::now();
+void check_job_settings(const Slicer& slicer, const JobParams& params) {
   const Scene& scene = slicer.scene();
-  const SliceLayout& L = slicer.layout();
   if (scene.num_materials() > scene.printer.max_materials)
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
+  (void)layer_range(slicer.layout(), params);
+}
+
+JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const Scene& scene = slicer.scene();
+  const SliceLayout& L = slicer.layout();
+  check_job_settings(slicer, params);
   const LayerRange range = layer_range(L, params);
   const int total_files = range.total();
 

@@ -101,7 +101,8 @@ TEST_F(CliJob, WriteErrorNamesThePathLeavesNoBadFileAndResumeCompletes) {
   const fs::path out = dir.path() / "out";
   // Files over 8 KiB fail with EFBIG: the model layers (about 10 KB) do, the empty padding
   // layers (about 5 KB) and the manifest do not. SIGXFSZ is ignored so that write() fails.
-  const CliResult failed = run_cli(slice_args(out), "", "", "trap '' XFSZ; ulimit -f 16;");
+  // --no-checks: the up-front estimate would meet the limit first, in its scratch folder.
+  const CliResult failed = run_cli(slice_args(out) + " --no-checks", "", "", "trap '' XFSZ; ulimit -f 16;");
   EXPECT_EQ(failed.exit_code, 4) << failed.err;
   EXPECT_NE(failed.err.find((out / "slice_000").string()), std::string::npos) << failed.err;
   EXPECT_NE(failed.err.find("File too large"), std::string::npos) << failed.err;
@@ -158,6 +159,40 @@ TEST_F(CliJob, BadShardIsAUsageError) {
     EXPECT_EQ(r.exit_code, 2) << shard;
     EXPECT_NE(r.err.find("--shard"), std::string::npos) << r.err;
   }
+}
+
+}  // namespace
+}  // namespace trivox::test
+
+namespace trivox::test {
+namespace {
+
+TEST(CliEstimate, ValidateAndInfoPrintTheEstimate) {
+  ScratchDir dir;
+  const CliResult v = run_cli("validate " + scene() + " --layers 1:12 -o " + shell_quote(dir.path() / "out"));
+  EXPECT_EQ(v.exit_code, 0) << v.err;
+  EXPECT_NE(v.out.find("layers: 30 (12 of the model, 18 empty padding layers)"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("output: about"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("peak memory"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("ok: the job can run"), std::string::npos) << v.out;
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "out"));  // validate writes nothing
+  const CliResult i = run_cli("info " + scene());
+  EXPECT_EQ(i.exit_code, 0) << i.err;
+  EXPECT_NE(i.out.find("time: about"), std::string::npos) << i.out;
+}
+
+TEST(CliEstimate, AJobOverTheMemoryLimitIsRefusedUpFrontUnlessOverridden) {
+  ScratchDir dir;
+  const auto out = dir.path() / "out";
+  const CliResult v = run_cli("validate " + scene() + " --memory-limit 1");
+  EXPECT_EQ(v.exit_code, 3);
+  EXPECT_NE(v.err.find("memory"), std::string::npos) << v.err;
+  const CliResult s = run_cli(slice_args(out) + " --memory-limit 1");
+  EXPECT_EQ(s.exit_code, 3);
+  EXPECT_NE(s.err.find("--no-checks"), std::string::npos) << s.err;
+  EXPECT_FALSE(std::filesystem::exists(out));  // refused before anything was written
+  const CliResult forced = run_cli(slice_args(out) + " --memory-limit 1 --no-checks");
+  EXPECT_EQ(forced.exit_code, 0) << forced.err;
 }
 
 }  // namespace

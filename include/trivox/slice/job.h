@@ -81,6 +81,10 @@ class ProgressSink {
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress = nullptr);
 
 // stats.json: per layer and in total, the columns of the paper's Table 2.
+// Throws Error when the job cannot run on the scene's printer or with these settings: more
+// materials than the printer takes, a shard number out of range, an empty layer range.
+void check_job_settings(const Slicer& slicer, const JobParams& params);
+
 // The manifest this job starts from: tool version, inputs, effective settings and layer
 // count, status running, no files.
 JobManifest job_manifest(const Slicer& slicer, const JobParams& params);
