@@ -85,6 +85,9 @@ std::uint64_t bytes_already_written(const JobParams& job) {
 }
 
 void run(const SliceOptions& so) {
+  // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
+  // interrupted manifest rather than the default action.
+  install_stop_handlers();
   const JobOptions& o = so.job;
   const SliceParams params = slice_params_of(o);
   JobParams job = job_params_of(o);
@@ -106,7 +109,6 @@ void run(const SliceOptions& so) {
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
   TerminalProgress progress(so.quiet);
-  install_stop_handlers();
   const JobStats st = run_slice_job(slicer, job, &progress);
   const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
   if (st.interrupted)

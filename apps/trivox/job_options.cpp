@@ -55,7 +55,7 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("--layers", o.layers, "Only layers FIRST:LAST (1-based, inclusive)");
   cmd.add_option("--tracing", o.tracing, "Seeding of the inverse: none, previous-point, previous-line, full")
       ->capture_default_str();
-  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
+  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), preview (contact sheet and cuts)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))
       ->capture_default_str();

@@ -50,7 +50,8 @@ std::string relative_name(const std::string& name) { return std::filesystem::pat
 // Layers of `previous` whose files all exist with their recorded size and SHA-256.
 std::vector<ManifestFile> intact_files(const std::filesystem::path& dir, const JobManifest& previous) {
   std::map<int, std::vector<ManifestFile>> by_layer;
-  for (const ManifestFile& f : previous.files) by_layer[f.layer].push_back(f);
+  for (const ManifestFile& f : previous.files)
+    if (f.layer > 0) by_layer[f.layer].push_back(f);  // stack files (layer 0) are rewritten at the end
   std::vector<ManifestFile> kept;
   for (auto& [layer, files] : by_layer) {
     const bool intact = std::all_of(files.begin(), files.end(), [&](const ManifestFile& f) {
@@ -146,7 +147,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     manifest.files = intact_files(params.output_dir, previous);
   }
   std::vector<char> kept(static_cast<std::size_t>(total_files), 0);
-  for (const ManifestFile& f : manifest.files) kept[static_cast<std::size_t>(f.layer - 1)] = 1;
+  for (const ManifestFile& f : manifest.files) kept[static_cast<std::size_t>(f.layer - 1)] = 1;  // layers >= 1 only
   std::vector<int> todo;
   for (int index = 0; index < total_files; ++index)
     if (shard_has_layer(index, params.shard_index, params.shard_count) && !kept[static_cast<std::size_t>(index)])
@@ -166,9 +167,22 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   ctx.background_rgba = params.background_rgba;
   ctx.prefix = params.prefix;
   ctx.total_layers = total_files;
+  ctx.model_layers = range.count;
+  ctx.pitch_x_mm = L.pitch_x_mm;
+  ctx.pitch_y_mm = L.pitch_y_mm;
+  ctx.layer_mm = L.layer_mm;
   ctx.png = params.png;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
+  const bool any_stack = std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
+  if (any_stack && params.shard_count > 1)
+    throw Error("the preview format needs every layer of the job in one run: slice it without --shard");
+  // Stack writers see every model layer; those a resumed job keeps are sliced again for them
+  // (the same labels, since a layer depends only on the scene, settings and its index).
+  std::vector<int> refeed;
+  if (any_stack)
+    for (int index = 0; index < range.count; ++index)
+      if (kept[static_cast<std::size_t>(index)]) refeed.push_back(index);
   write_manifest(manifest_path, manifest);
 
   // Everything below runs under `record_mutex`: the manifest, the file list, the stats and
@@ -201,8 +215,15 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     tbb::task_arena arena(stats.threads);
     arena.execute([&] {
       // One layer per task: layers are independent, so any schedule gives the same files.
-      tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t t) {
+      tbb::parallel_for(std::size_t{0}, todo.size() + refeed.size(), [&](std::size_t t) {
         if (stop_requested()) return;
+        if (t >= todo.size()) {
+          const int index = refeed[t - todo.size()];
+          const LayerResult r = slicer.slice_layer(range.first + index);
+          for (const auto& w : writers)
+            if (w->needs_whole_stack()) w->write_layer(index, r.labels);
+          return;
+        }
         const int index = todo[t];
         std::vector<std::string> written;
         if (index < range.count) {
@@ -237,7 +258,29 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   manifest.sort_files();
   std::sort(stats.files.begin(), stats.files.end());
   std::sort(stats.layers.begin(), stats.layers.end(), [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
-  stats.interrupted = stop_requested() && done < static_cast<int>(todo.size());
+  stats.interrupted = stop_requested() && (done < static_cast<int>(todo.size()) || any_stack);
+  if (!stats.interrupted && any_stack) {
+    // Stack files belong to no single layer: the manifest lists them under layer 0.
+    try {
+      for (const auto& w : writers)
+        for (const std::string& name : w->finish()) {
+          const FileDigest d = sha256_file(params.output_dir / name);
+          manifest.files.push_back({0, relative_name(name), d.bytes, d.sha256});
+          stats.files.push_back(name);
+        }
+    } catch (const std::exception& e) {
+      manifest.status = JobStatus::kFailed;
+      manifest.message = e.what();
+      manifest.sort_files();
+      try {
+        write_manifest(manifest_path, manifest);
+      } catch (const std::exception&) {
+      }
+      throw;
+    }
+    manifest.sort_files();
+    std::sort(stats.files.begin(), stats.files.end());
+  }
   if (stats.interrupted) {
     manifest.status = JobStatus::kInterrupted;
     manifest.message = fmt::format("stopped after {} of {} layers; continue with --resume", done, todo.size());

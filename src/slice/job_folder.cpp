@@ -75,6 +75,7 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
       throw Error(fmt::format("{}: not the same job as shard 1: {}", path.string(), fmt::join(diffs, "; ")));
     }
     for (const ManifestFile& f : m.files) {
+      if (f.layer < 1) throw Error(fmt::format("{}: a shard cannot hold a stack file ({})", path.string(), f.name));
       auto& o = owner[static_cast<std::size_t>(f.layer - 1)];
       if (o != 0 && o != index)
         throw Error(fmt::format("{}: layer {} is in shard {} and shard {}", dir.string(), f.layer, o, index));
@@ -118,7 +119,7 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
                                           m.message.empty() ? "" : ": " + m.message));
   std::vector<char> has_files(static_cast<std::size_t>(m.total_layers), 0);
   for (const ManifestFile& f : m.files) {
-    has_files[static_cast<std::size_t>(f.layer - 1)] = 1;
+    if (f.layer > 0) has_files[static_cast<std::size_t>(f.layer - 1)] = 1;
     ++report.files_checked;
     std::string problem = file_problem(dir, f);
     if (problem.empty() && std::filesystem::path(f.name).extension() == ".png") {

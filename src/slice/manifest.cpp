@@ -158,7 +158,7 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
   for (std::size_t i = 0; i < files.size(); ++i) {
     const std::string where = fmt::format("/files/{}", i);
     ManifestFile f;
-    f.layer = static_cast<int>(r.integer(files[i], "layer", where, 1, m.total_layers));
+    f.layer = static_cast<int>(r.integer(files[i], "layer", where, 0, m.total_layers));
     f.name = r.str(files[i], "name", where);
     // Names stay inside the folder: no absolute paths, no "..".
     const std::filesystem::path p(f.name);

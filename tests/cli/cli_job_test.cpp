@@ -81,7 +81,9 @@ TEST_F(CliJob, KilledOrInterruptedAtRandomMomentsThenResumedIsByteIdentical) {
     const CliResult killed = run_cli(fmt::format("--preserve-status -s {} {:.3f} {} {}", gentle ? "INT" : "KILL", after_s,
                                                  shell_quote(cli_path()), slice_args(out)),
                                      "", "", "timeout");
-    if (gentle && killed.exit_code != 0) {
+    // A signal that arrives before the program installed its handler (while it starts up)
+    // ends it before any output exists; once a manifest exists, SIGINT must end cleanly.
+    if (gentle && killed.exit_code != 0 && fs::exists(out / "manifest.json")) {
       EXPECT_EQ(killed.exit_code, 130) << killed.err;
       EXPECT_NE(killed.err.find("--resume"), std::string::npos) << killed.err;
       EXPECT_NE(read_text(out / "manifest.json").find("\"interrupted\""), std::string::npos);

@@ -28,7 +28,9 @@ struct ManifestInput {
 };
 
 struct ManifestFile {
-  int layer = 0;  // 1-based job layer (padding layers included), as in the file names
+  // 1-based job layer (padding layers included), as in the file names; 0 for a file of the
+  // whole stack (a preview), written when the job completes.
+  int layer = 0;
   std::string name;  // relative to the output folder, '/'-separated
   std::uint64_t bytes = 0;
   std::string sha256;
