@@ -84,9 +84,10 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
     return std::make_unique<MaterialBitmapWriter>(context);
   }
   if (format == "preview") return detail::make_preview_writer(context);
+  if (format == "legacy") return detail::make_legacy_bitmap_writer(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
-std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "preview"}; }
+std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "preview"}; }
 
 }  // namespace trivox

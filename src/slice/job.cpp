@@ -259,8 +259,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   std::sort(stats.files.begin(), stats.files.end());
   std::sort(stats.layers.begin(), stats.layers.end(), [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
   stats.interrupted = stop_requested() && (done < static_cast<int>(todo.size()) || any_stack);
-  if (!stats.interrupted && any_stack) {
-    // Stack files belong to no single layer: the manifest lists them under layer 0.
+  if (!stats.interrupted) {
+    // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
     try {
       for (const auto& w : writers)
         for (const std::string& name : w->finish()) {

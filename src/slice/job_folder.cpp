@@ -1,6 +1,9 @@
 #include "trivox/slice/job_folder.h"
 
 #include <algorithm>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <regex>
 
@@ -46,6 +49,28 @@ std::string file_problem(const std::filesystem::path& dir, const ManifestFile& f
   return {};
 }
 
+// A BMP's headers against its size: the "BM" tag, the file size field, and a pixel array
+// of stride x height bytes after the pixel offset.
+std::string bmp_problem(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(i)]);
+    return v;
+  };
+  const auto u16 = [&](std::size_t at) {
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at]) | (static_cast<unsigned char>(bytes[at + 1]) << 8));
+  };
+  if (bytes.size() < 54 || bytes[0] != 'B' || bytes[1] != 'M') return fmt::format("{}: not a BMP file", path.string());
+  if (u32(2) != bytes.size()) return fmt::format("{}: BMP header says {} bytes, the file has {}", path.string(), u32(2), bytes.size());
+  const std::uint64_t width = u32(18), height = u32(22), bpp = u16(28);
+  const std::uint64_t stride = (width * bpp + 31) / 32 * 4;
+  if (bpp == 0 || u32(10) + stride * height != bytes.size())
+    return fmt::format("{}: BMP pixel data does not fill the file ({} x {} px, {} bits)", path.string(), width, height, bpp);
+  return {};
+}
+
 }  // namespace
 
 JobManifest merge_shards(const std::filesystem::path& dir) {
@@ -75,7 +100,18 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
       throw Error(fmt::format("{}: not the same job as shard 1: {}", path.string(), fmt::join(diffs, "; ")));
     }
     for (const ManifestFile& f : m.files) {
-      if (f.layer < 1) throw Error(fmt::format("{}: a shard cannot hold a stack file ({})", path.string(), f.name));
+      if (f.layer < 1) {
+        // Files of the whole job (layer 0) depend only on the settings: every shard writes
+        // the same one, listed once.
+        const auto same = std::find_if(merged.files.begin(), merged.files.end(),
+                                       [&](const ManifestFile& g) { return g.layer == 0 && g.name == f.name; });
+        if (same == merged.files.end()) {
+          merged.files.push_back(f);
+        } else if (same->sha256 != f.sha256) {
+          throw Error(fmt::format("{}: {} differs from the other shards' copy", path.string(), f.name));
+        }
+        continue;
+      }
       auto& o = owner[static_cast<std::size_t>(f.layer - 1)];
       if (o != 0 && o != index)
         throw Error(fmt::format("{}: layer {} is in shard {} and shard {}", dir.string(), f.layer, o, index));
@@ -122,13 +158,15 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
     if (f.layer > 0) has_files[static_cast<std::size_t>(f.layer - 1)] = 1;
     ++report.files_checked;
     std::string problem = file_problem(dir, f);
-    if (problem.empty() && std::filesystem::path(f.name).extension() == ".png") {
+    const std::string ext = std::filesystem::path(f.name).extension().string();
+    if (problem.empty() && ext == ".png") {
       try {
         (void)read_png_rgba(dir / f.name);
       } catch (const Error& e) {
         problem = e.what();
       }
     }
+    if (problem.empty() && ext == ".bmp") problem = bmp_problem(dir / f.name);
     if (!problem.empty()) report.problems.push_back(std::move(problem));
   }
   if (m.status == JobStatus::kComplete)

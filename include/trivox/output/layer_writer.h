@@ -42,6 +42,9 @@ class LayerWriter {
   // The job feeds them every layer, also those a resumed job keeps, and refuses to shard
   // them.
   virtual bool needs_whole_stack() const noexcept { return false; }
+  // Called once when every layer of the job (or of its shard) is written; returns files of
+  // the whole job (a text manifest, previews), which must depend only on the settings and,
+  // for stack outputs, on the layers.
   virtual std::vector<std::string> finish() const { return {}; }
 };
 
@@ -52,6 +55,9 @@ class LayerWriter {
 //               downscaled model layers) and preview/cut_xy.png, cut_xz.png, cut_yz.png
 //               (three orthogonal cuts through the middle of the stack), at true
 //               proportions.
+// "legacy":     the bitmap method of the paper's printer: legacy/<prefix><n>_<material>.bmp,
+//               one 1-bit BMP per material per layer (1 = material), and legacy/slices.txt
+//               with the layer thickness, slice count and bitmap names.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
 
