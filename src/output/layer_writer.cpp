@@ -85,9 +85,10 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
   }
   if (format == "preview") return detail::make_preview_writer(context);
   if (format == "legacy") return detail::make_legacy_bitmap_writer(context);
+  if (format == "tiff") return detail::make_tiff_stack_writer(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
-std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "preview"}; }
+std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "tiff", "preview"}; }
 
 }  // namespace trivox

@@ -13,6 +13,9 @@ namespace trivox::detail {
 // "preview": contact sheet and three orthogonal cuts (preview_writer.cpp).
 std::unique_ptr<LayerWriter> make_preview_writer(const OutputContext& context);
 
+// "tiff": every layer as a page of tiff/stack.tif (tiff_stack_writer.cpp).
+std::unique_ptr<LayerWriter> make_tiff_stack_writer(const OutputContext& context);
+
 // "legacy": 1-bit BMP per material per layer and legacy/slices.txt (legacy_bitmap_writer.cpp).
 std::unique_ptr<LayerWriter> make_legacy_bitmap_writer(const OutputContext& context);
 

@@ -181,7 +181,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   // (the same labels, since a layer depends only on the scene, settings and its index).
   std::vector<int> refeed;
   if (any_stack)
-    for (int index = 0; index < range.count; ++index)
+    for (int index = 0; index < total_files; ++index)
       if (kept[static_cast<std::size_t>(index)]) refeed.push_back(index);
   write_manifest(manifest_path, manifest);
 
@@ -219,9 +219,10 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
         if (stop_requested()) return;
         if (t >= todo.size()) {
           const int index = refeed[t - todo.size()];
-          const LayerResult r = slicer.slice_layer(range.first + index);
+          const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
+                                                        : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
           for (const auto& w : writers)
-            if (w->needs_whole_stack()) w->write_layer(index, r.labels);
+            if (w->needs_whole_stack()) w->write_layer(index, labels);
           return;
         }
         const int index = todo[t];

@@ -13,6 +13,7 @@
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/png_io.h"
+#include "trivox/output/tiff_stack.h"
 
 namespace trivox {
 
@@ -167,6 +168,15 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
       }
     }
     if (problem.empty() && ext == ".bmp") problem = bmp_problem(dir / f.name);
+    if (problem.empty() && ext == ".tif") {
+      try {
+        const int pages = read_tiff_stack(dir / f.name, [](int, const LabelImage&) {});
+        if (pages != m.total_layers)
+          problem = fmt::format("{}: {} pages, the job has {} layers", (dir / f.name).string(), pages, m.total_layers);
+      } catch (const Error& e) {
+        problem = e.what();
+      }
+    }
     if (!problem.empty()) report.problems.push_back(std::move(problem));
   }
   if (m.status == JobStatus::kComplete)

@@ -55,6 +55,8 @@ class LayerWriter {
 //               downscaled model layers) and preview/cut_xy.png, cut_xz.png, cut_yz.png
 //               (three orthogonal cuts through the middle of the stack), at true
 //               proportions.
+// "tiff":       tiff/stack.tif, one 8-bit palette page per job layer (value = label), for
+//               stack viewers; a stack output (written when the job completes).
 // "legacy":     the bitmap method of the paper's printer: legacy/<prefix><n>_<material>.bmp,
 //               one 1-bit BMP per material per layer (1 = material), and legacy/slices.txt
 //               with the layer thickness, slice count and bitmap names.
