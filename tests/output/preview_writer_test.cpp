@@ -1,5 +1,7 @@
 // The "preview" stack output: the cuts against a reference built from the whole decoded
 // stack, determinism, resume, and the refusal to shard it.
+#include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -35,7 +37,7 @@ Scene preview_scene() {
 
 JobParams preview_params(const std::string& name, int threads) {
   JobParams p;
-  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-preview-test-{}", name);
+  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-preview-test-{}-{}", ::getpid(), name);
   fs::remove_all(p.output_dir);
   p.threads = threads;
   p.formats = {"voxelprint", "preview"};

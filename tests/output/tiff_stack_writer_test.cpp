@@ -1,5 +1,7 @@
 // The "tiff" stack output: every page decodes to the labels of its layer image, in layer
 // order; the file is identical for 1 and 3 threads and after a stop and resume.
+#include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <fstream>
@@ -33,7 +35,7 @@ Scene tiff_scene() {
 
 JobParams tiff_params(const std::string& name, int threads) {
   JobParams p;
-  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-tiff-test-{}", name);
+  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-tiff-test-{}-{}", ::getpid(), name);
   fs::remove_all(p.output_dir);
   p.threads = threads;
   p.formats = {"voxelprint", "tiff"};

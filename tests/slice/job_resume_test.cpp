@@ -1,5 +1,7 @@
 // Safe long jobs in-process: the manifest, stopping at random layer counts and resuming,
 // refusing to resume a different job, shards and their merge, and verify.
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <fstream>
@@ -31,7 +33,8 @@ std::string read_bytes(const fs::path& p) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / fmt::format("trivox-resume-test-{}", name);
+  // The process id keeps test processes that CTest runs side by side apart.
+  const fs::path dir = fs::temp_directory_path() / fmt::format("trivox-resume-test-{}-{}", ::getpid(), name);
   fs::remove_all(dir);
   return dir;
 }
