@@ -19,7 +19,7 @@ inline Scene duck_class_scene(double scale) {
   Scene s;
   s.source = "duck-class benchmark";
   s.printer = builtin_printer_profile("j750-paper");
-  s.materials = {{"green", {40, 170, 60, 255}}, {"blue", {30, 80, 200, 255}}};
+  s.materials = {{"green", {40, 170, 60, 255}, ""}, {"blue", {30, 80, 200, 255}, ""}};
   Volume v = test::twisted_bent_box(128 * scale, 128 * scale, 88 * scale, 8, 4);
   PorousTilesParams tiles;
   tiles.tiles = {6, 6, 4};

@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   libfmt-dev libpugixml-dev nlohmann-json3-dev libcli11-dev libtbb-dev
-  libpng-dev zlib1g-dev libtiff-dev libmuparser-dev libeigen3-dev
+  libpng-dev zlib1g-dev libtiff-dev libmuparser-dev libeigen3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
 )
 

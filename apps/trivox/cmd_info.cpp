@@ -2,6 +2,8 @@
 // control points, rational or not, parametric domain, the box of the control points (which
 // contains the patch) and, for trivariates with 3D points, a sampled Jacobian check.
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <array>
 #include <cstdio>
 #include <memory>
@@ -159,6 +161,13 @@ void print_text(const Model& model, const JacobianCheckParams& params) {
 }
 
 void run_info(const InfoOptions& options) {
+  // A scene (JSON) gets the scene summary and the job estimate; models get their patches.
+  std::string ext = std::filesystem::path(options.model_path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".json") {
+    print_scene_info(options.model_path);
+    return;
+  }
   const Model model = read_model(options.model_path);
   if (options.json) {
     // One patch per line: compact enough for models of many patches, still one JSON document.
@@ -181,7 +190,7 @@ void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand(
       "info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
-  cmd->add_option("model", options->model_path, "Model file: IRIT .itd or G+Smo .xml")->required();
+  cmd->add_option("model", options->model_path, "Model file: IRIT .itd or G+Smo .xml; or a scene (.json) for a job estimate")->required();
   cmd->add_flag("--json", options->json, "Print one JSON document instead of text");
   cmd->add_option("--jacobian-samples", options->jacobian.samples_per_direction,
                   "Grid points per direction (domain ends included) for the Jacobian check")

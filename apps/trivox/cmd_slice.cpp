@@ -1,8 +1,9 @@
 // `trivox slice SCENE -o DIR`: printer-ready slices of a scene (docs/CLI.md#slice).
+#include <signal.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
-#include <optional>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -12,30 +13,39 @@
 
 #include "cli_errors.h"
 #include "commands.h"
+#include "job_options.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
+#include "trivox/slice/job_estimate.h"
+#include "trivox/slice/manifest.h"
 
 namespace trivox::cli {
 
 namespace {
 
 struct SliceOptions {
-  std::string scene;
-  std::string output;
-  int threads = 0;
-  std::string layers;
-  std::string tracing = std::string(to_string(SliceParams{}.tracing));
-  double residual_tolerance_mm = SliceParams{}.newton.residual_tolerance_model;
-  std::string dither;                 // empty: the scene's method
-  std::optional<int> skin_voxels;     // unset: the scene's
-  std::optional<bool> vary_by_layer;  // unset: the scene's
-  std::vector<std::string> formats{"voxelprint"};
-  std::string prefix = "slice_";
-  std::vector<int> background{255, 255, 255, 255};
-  int min_layers = 30;
+  JobOptions job;
   bool quiet = false;
+  bool resume = false;
 };
+
+// Set by SIGINT / SIGTERM; the job stops starting layers once it is set. The handler is
+// reset after the first signal, so a second Ctrl-C ends the program at once (the job can
+// still be resumed: files are atomic and the manifest lags by at most a second).
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
 
 // A progress bar with an ETA on a terminal; a line every 10% otherwise (logs, pipes).
 class TerminalProgress final : public ProgressSink {
@@ -63,70 +73,52 @@ class TerminalProgress final : public ProgressSink {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// "a:b" (1-based, inclusive, as in the file names; either end may be left out).
-void parse_layers(const std::string& text, JobParams& p) {
-  if (text.empty()) return;
-  const auto colon = text.find(':');
-  if (colon == std::string::npos) throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
-  try {
-    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
-    if (!a.empty()) p.first_layer = std::stoi(a) - 1;
-    if (!b.empty()) p.last_layer = std::stoi(b) - 1;
-  } catch (const std::exception&) {
-    throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
-  }
-  if (p.first_layer < 0 || (p.last_layer >= 0 && p.last_layer < p.first_layer))
-    throw UsageError(fmt::format("--layers {}: layers count from 1 and FIRST must not exceed LAST", text));
+// Bytes of the files a resumed job already has (they need no new space); 0 without a manifest.
+std::uint64_t bytes_already_written(const JobParams& job) {
+  const auto path = job.output_dir / manifest_file_name(job.shard_index, job.shard_count);
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return 0;
+  std::uint64_t bytes = 0;
+  for (const ManifestFile& f : read_manifest(path).files) bytes += f.bytes;
+  return bytes;
 }
 
-void run(const SliceOptions& o) {
-  SliceParams params;
-  const auto strategy = parse_tracing_strategy(o.tracing);
-  if (!strategy) throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line, full, predict or flood, got '{}'", o.tracing));
-  params.tracing = *strategy;
-  params.newton.residual_tolerance_model = o.residual_tolerance_mm;
-  JobParams job;
-  job.output_dir = o.output;
-  job.threads = o.threads;
-  job.formats = o.formats;
-  job.prefix = o.prefix;
-  job.min_layers = o.min_layers;
-  if (o.background.size() != 4) throw UsageError("--background takes four numbers R,G,B,A");
-  for (std::size_t i = 0; i < 4; ++i) {
-    if (o.background[i] < 0 || o.background[i] > 255) throw UsageError("--background values are 0..255");
-    job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
-  }
-  parse_layers(o.layers, job);
+void run(const SliceOptions& so) {
+  // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
+  // interrupted manifest rather than the default action.
+  install_stop_handlers();
+  const JobOptions& o = so.job;
+  JobParams job = job_params_of(o);
+  job.resume = so.resume;
+  job.stop = &g_stop;
 
   const Scene scene = read_scene(o.scene);
-  // Dithering: the scene's settings, with the options given here on top.
-  DitherParams dither = scene.dithering.value_or(DitherParams{});
-  if (!o.dither.empty() && !set_dither_method(o.dither, dither)) {
-    std::string list;
-    for (std::string_view n : dither_method_names()) list += fmt::format("{}{}", list.empty() ? "" : ", ", n);
-    throw UsageError(fmt::format("--dither must be one of {}, got '{}'", list, o.dither));
-  }
-  if (o.skin_voxels) {
-    if (*o.skin_voxels < 0 || *o.skin_voxels > DitherParams::kMaxSkinVoxels)
-      throw UsageError(fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
-    dither.skin_voxels = *o.skin_voxels;
-  }
-  if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
-  params.dither = dither;
+  const SliceParams params = slice_params_of(o, scene);
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
-  if (!o.quiet)
+  if (!o.no_checks) {
+    // One sample layer is enough to refuse a job that is far too big; `trivox validate`
+    // samples more for a closer estimate.
+    JobEstimate estimate = estimate_job(slicer, job, EstimateParams{1});
+    if (so.resume) estimate.output_bytes -= std::min(estimate.output_bytes, bytes_already_written(job));
+    check_job_fits(estimate, job, memory_limit_of(o));
+  }
+  if (!so.quiet)
     fmt::print(stderr, "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} mm layers)\n",
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
-  if (!o.quiet) {
+  if (!so.quiet) {
     const DitherParams& d = slicer.dither_params();
     fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
                d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
                d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
   }
-  TerminalProgress progress(o.quiet);
+  TerminalProgress progress(so.quiet);
   const JobStats st = run_slice_job(slicer, job, &progress);
+  const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
+  if (st.interrupted)
+    throw InterruptedError(fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
+                                       st.layers.size(), manifest));
 
   std::int64_t inside = 0, global = 0;
   for (const LayerStats& s : st.layers) {
@@ -137,9 +129,13 @@ void run(const SliceOptions& o) {
              L.height_px, o.output, st.seconds, st.threads);
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
+  if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
+  if (job.shard_count > 1)
+    fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index, job.shard_count, o.output);
   if (st.padded_layers > 0)
     fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers, job.min_layers);
-  fmt::print("statistics: {}\n", (std::filesystem::path(o.output) / "stats.json").string());
+  fmt::print("statistics: {}\n", (std::filesystem::path(o.output) / (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count) : std::string("stats.json"))).string());
+  fmt::print("manifest: {}\n", manifest);
 }
 
 }  // namespace
@@ -147,31 +143,10 @@ void run(const SliceOptions& o) {
 void add_slice_command(CLI::App& app) {
   auto opts = std::make_shared<SliceOptions>();
   CLI::App* cmd = app.add_subcommand("slice", "Slice a scene into printer-ready layer images");
-  cmd->add_option("scene", opts->scene, "Scene file (JSON, docs/SCENE.md)")->required();
-  cmd->add_option("-o,--output", opts->output, "Output folder (created if missing)")->required();
-  cmd->add_option("-j,--threads", opts->threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--layers", opts->layers, "Only layers FIRST:LAST (1-based, inclusive)");
-  cmd->add_option("--tracing", opts->tracing, "Seeding of the inverse: none, previous-point, previous-line, full (the paper's), predict, flood")
-      ->capture_default_str();
-  cmd->add_option("--residual-tolerance", opts->residual_tolerance_mm,
-                  "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
-  cmd->add_option("--dither", opts->dither,
-                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
-  cmd->add_option("--skin", opts->skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
-  cmd->add_option("--vary-by-layer", opts->vary_by_layer,
-                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
-  cmd->add_option("--format", opts->formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material)")
-      ->delimiter(',')
-      ->check(CLI::IsMember(layer_writer_names()))
-      ->capture_default_str();
-  cmd->add_option("--prefix", opts->prefix, "File-name prefix of the layer images")->capture_default_str();
-  cmd->add_option("--background", opts->background, "Background colour R,G,B,A")->delimiter(',')->capture_default_str();
-  cmd->add_option("--min-layers", opts->min_layers, "Pad with empty layers up to this count")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  add_job_options(*cmd, opts->job, true);
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress output");
+  cmd->add_flag("--resume", opts->resume,
+                "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
   cmd->callback([opts] { run(*opts); });
 }
 

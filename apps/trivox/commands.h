@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <string>
 
 namespace CLI {
 class App;
@@ -31,8 +32,20 @@ void add_slice_command(CLI::App& app);
 // `trivox build SPEC -o OUT.itd`: a volume made by a constructor, saved as a model file.
 void add_build_command(CLI::App& app);
 
+// `trivox validate SCENE [job options]`: checks a job before it runs and estimates its cost.
+void add_validate_command(CLI::App& app);
+// What `trivox info SCENE.json` prints: the scene and the estimate of a default job.
+void print_scene_info(const std::string& scene_path);
+
+// `trivox merge DIR`: one manifest.json from the shard manifests of a split job.
+void add_merge_command(CLI::App& app);
+
+// `trivox verify DIR`: re-hashes and decodes every file manifest.json lists.
+void add_verify_command(CLI::App& app);
+
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 4> kCommands = {&add_slice_command, &add_info_command,
-                                                        &add_probe_command, &add_build_command};
+inline constexpr std::array<AddCommand, 7> kCommands = {&add_slice_command, &add_validate_command, &add_merge_command,
+                                                        &add_verify_command, &add_info_command, &add_probe_command,
+                                                        &add_build_command};
 
 }  // namespace trivox::cli

@@ -47,6 +47,10 @@ int main(int argc, char** argv) {
     const int code = fail(kExitUsage, "usage error", e.what());
     std::fputs("Run with --help for more information.\n", stderr);
     return code;
+  } catch (const InterruptedError& e) {
+    return fail(kExitInterrupted, "interrupted", e.what());
+  } catch (const CorruptOutputError& e) {
+    return fail(kExitCorrupt, "verify failed", e.what());
   } catch (const trivox::IoError& e) {
     return fail(kExitIo, "error", e.what());
   } catch (const trivox::UnsupportedError& e) {  // a valid file using a feature trivox lacks

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "output/stack_writers.h"
 #include "trivox/error.h"
 
 namespace trivox {
@@ -82,9 +83,12 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
     if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
     return std::make_unique<MaterialBitmapWriter>(context);
   }
+  if (format == "preview") return detail::make_preview_writer(context);
+  if (format == "legacy") return detail::make_legacy_bitmap_writer(context);
+  if (format == "tiff") return detail::make_tiff_stack_writer(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
-std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps"}; }
+std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "tiff", "preview"}; }
 
 }  // namespace trivox

@@ -1,11 +1,8 @@
 #include "trivox/output/material_sheet.h"
 
-#include <fstream>
-#include <system_error>
-
 #include <fmt/format.h>
 
-#include "trivox/error.h"
+#include "trivox/output/atomic_file.h"
 
 namespace trivox {
 
@@ -22,20 +19,20 @@ std::string csv_field(const std::string& s) {
 }
 
 std::string row(int label, const std::string& name, const std::string& library,
-                const std::array<std::uint8_t, 4>& c, const std::string& voxels) {
-  return fmt::format("{},{},{},#{:02X}{:02X}{:02X}{:02X},{},{},{},{},{}\n", label, csv_field(name),
-                     csv_field(library), c[0], c[1], c[2], c[3], c[0], c[1], c[2], c[3], voxels);
+                const std::array<std::uint8_t, 4>& c) {
+  return fmt::format("{},{},{},#{:02X}{:02X}{:02X}{:02X},{},{},{},{}\n", label, csv_field(name), csv_field(library),
+                     c[0], c[1], c[2], c[3], c[0], c[1], c[2], c[3]);
 }
 
 }  // namespace
 
 std::string material_sheet_csv(const std::array<std::uint8_t, 4>& background_rgba,
                                const std::vector<MaterialSheetRow>& materials) {
-  std::string text = "label,name,library,hex,r,g,b,a,voxels\n";
-  text += row(0, "background", "", background_rgba, "");
+  std::string text = "label,name,library,hex,r,g,b,a\n";
+  text += row(0, "background", "", background_rgba);
   for (std::size_t j = 0; j < materials.size(); ++j) {
     const MaterialSheetRow& m = materials[j];
-    text += row(static_cast<int>(j) + 1, m.name, m.library, m.rgba, std::to_string(m.voxels));
+    text += row(static_cast<int>(j) + 1, m.name, m.library, m.rgba);
   }
   return text;
 }
@@ -43,15 +40,7 @@ std::string material_sheet_csv(const std::array<std::uint8_t, 4>& background_rgb
 void write_material_sheet(const std::filesystem::path& path,
                           const std::array<std::uint8_t, 4>& background_rgba,
                           const std::vector<MaterialSheetRow>& materials) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << material_sheet_csv(background_rgba, materials);
-    if (!out) throw IoError(fmt::format("{}: cannot write", tmp.string()));
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw IoError(fmt::format("{}: cannot write: {}", path.string(), ec.message()));
+  write_file_atomic(path, material_sheet_csv(background_rgba, materials));
 }
 
 }  // namespace trivox

@@ -1,11 +1,8 @@
 #include "trivox/output/png_io.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <png.h>
-#include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -13,6 +10,7 @@
 #include <system_error>
 
 #include "trivox/error.h"
+#include "trivox/output/atomic_file.h"
 
 namespace trivox {
 
@@ -194,74 +192,6 @@ bool read_png_core(PngReadJob* job) noexcept {
   return true;
 }
 
-// ---- atomic file replacement -------------------------------------------------------------
-
-// A temporary file beside `target`, created exclusively. commit() makes its bytes durable
-// (fflush + fsync) and renames it over the target; if commit() is never reached, the
-// destructor closes and removes it, so no partial file survives a failure. (A process killed
-// mid-write leaves its "<name>.tmp-<pid>-<n>", never a partial file under the target name.)
-class TempFile {
- public:
-  explicit TempFile(const std::filesystem::path& target) : target_(target) {
-    if (target.filename().empty()) {
-      throw IoError(fmt::format("{}: not a file name", target.string()));
-    }
-    static std::atomic<unsigned> counter{0};
-    const std::string base = target.filename().string();
-    for (int attempt = 0; attempt < 100; ++attempt) {
-      path_ = target.parent_path() /
-              fmt::format("{}.tmp-{}-{}", base, static_cast<long>(::getpid()), counter++);
-      const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-      if (fd < 0) {
-        if (errno == EEXIST) continue;
-        throw IoError(fmt::format("{}: cannot create {}: {}", target.string(), path_.string(),
-                                  errno_text(errno)));
-      }
-      file_ = ::fdopen(fd, "wb");
-      if (file_ == nullptr) {
-        const int error_number = errno;
-        ::close(fd);
-        ::unlink(path_.c_str());
-        throw IoError(fmt::format("{}: cannot open {}: {}", target.string(), path_.string(),
-                                  errno_text(error_number)));
-      }
-      return;
-    }
-    throw IoError(fmt::format("{}: no free temporary name beside it", target.string()));
-  }
-
-  TempFile(const TempFile&) = delete;
-  TempFile& operator=(const TempFile&) = delete;
-
-  ~TempFile() {
-    if (file_ != nullptr) std::fclose(file_);
-    if (!committed_) ::unlink(path_.c_str());
-  }
-
-  std::FILE* file() const noexcept { return file_; }
-
-  void commit() {
-    if (std::fflush(file_) != 0) fail("cannot write", errno);
-    if (::fsync(::fileno(file_)) != 0) fail("cannot sync", errno);
-    const int closed = std::fclose(file_);
-    file_ = nullptr;
-    if (closed != 0) fail("cannot close", errno);
-    if (std::rename(path_.c_str(), target_.c_str()) != 0) fail("cannot rename", errno);
-    committed_ = true;
-  }
-
- private:
-  [[noreturn]] void fail(const char* what, int error_number) const {
-    throw IoError(fmt::format("{}: {} {}: {}", target_.string(), what, path_.string(),
-                              errno_text(error_number)));
-  }
-
-  std::filesystem::path target_;
-  std::filesystem::path path_;
-  std::FILE* file_ = nullptr;
-  bool committed_ = false;
-};
-
 // libpng refuses images wider or taller than this unless told otherwise (png_set_user_limits);
 // a slice at 300 dpi that large would be 85 m long.
 constexpr int kMaxPngSidePx = 1000000;
@@ -281,7 +211,7 @@ void check_size(const std::filesystem::path& path, int width_px, int height_px,
 }
 
 void write_png(const std::filesystem::path& path, const PngWriteParams& params, PngWriteJob job) {
-  TempFile temp(path);
+  AtomicFile temp(path);
   job.file = temp.file();
   job.zlib_level = params.zlib_level;
   job.filter_mask = png_filter_mask(params.filter);

@@ -16,6 +16,7 @@
 #include "trivox/io/volume_image.h"
 #include "trivox/material/material_function.h"
 #include "trivox/material/scalar_gradient_material.h"
+#include "trivox/scene/scene.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
@@ -43,6 +44,8 @@ class SceneContext {
 
   // The model file a string field names, relative to the scene's folder; read once per scene.
   const Model& model(const JsonView& file_field);
+  // The files model() read, with their SHA-256, in first-use order.
+  const std::vector<SceneInputFile>& input_files() const noexcept { return input_files_; }
 
   // A file a string field names, relative to the scene's folder (normalised); fails naming
   // the field when there is no such file.
@@ -57,6 +60,7 @@ class SceneContext {
   std::vector<std::string> material_names_;
   std::map<std::string, Model> models_;  // by resolved path
   std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text
+  std::vector<SceneInputFile> input_files_;
 };
 
 // One trivariate of a cell's geometry and the label that tells several apart ("" for the

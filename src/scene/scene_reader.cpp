@@ -13,6 +13,7 @@
 #include "scene/json_view.h"
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
+#include "trivox/io/sha256.h"
 #include "trivox/material/checked_material.h"
 #include "trivox/printer/material_library.h"
 
@@ -290,6 +291,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
 
   Scene scene;
   scene.source = src;
+  scene.source_sha256 = sha256_hex(json_text);
   scene.printer = parse_printer(top.at("printer"));
   scene.materials = parse_materials(top.at("materials"), scene.printer);
   if (const auto p = top.find("fraction_sums")) scene.fraction_policy = parse_policy(*p);
@@ -300,6 +302,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   for (const MaterialDef& m : scene.materials) names.push_back(m.name);
   ctx.set_material_names(std::move(names));
   parse_cells(top.at("cells"), ctx, scene);
+  scene.input_files = ctx.input_files();
   return scene;
 }
 

@@ -8,6 +8,7 @@
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
+#include "trivox/io/sha256.h"
 
 namespace trivox::detail {
 
@@ -24,7 +25,12 @@ const Model& SceneContext::model(const JsonView& file_field) {
     file_field.fail(fmt::format("cannot read the model file \"{}\": there is no file {} (names "
                                 "are relative to the scene file's folder)", name, key));
   try {
-    return models_.emplace(key, read_model(path)).first->second;
+    // Hashed before it is parsed: a file changed in between makes the job refuse to resume
+    // rather than mix two versions.
+    std::string digest = sha256_file(path).sha256;
+    const Model& model = models_.emplace(key, read_model(path)).first->second;
+    input_files_.push_back(SceneInputFile{name, std::move(digest)});
+    return model;
   } catch (const UnsupportedError& e) {
     throw UnsupportedError(source_, 0, file_field.pointer(),
                            fmt::format("the model file \"{}\" uses an unsupported feature: {}", name, e.what()));

@@ -2,44 +2,163 @@
 
 #include <algorithm>
 #include <chrono>
-#include <fstream>
+#include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "trivox/error.h"
+#include "trivox/io/sha256.h"
+#include "trivox/output/atomic_file.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
+#include "trivox/version.h"
 
 namespace trivox {
+
+namespace {
+
+struct LayerRange {
+  int first = 0, last = 0, count = 0;  // model layers first..last
+  int padded = 0;                      // empty layers after them
+  int total() const noexcept { return count + padded; }
+};
+
+LayerRange layer_range(const SliceLayout& L, const JobParams& params) {
+  LayerRange r;
+  r.first = std::max(0, params.first_layer);
+  r.last = params.last_layer < 0 ? L.num_layers - 1 : std::min(params.last_layer, L.num_layers - 1);
+  if (r.first > r.last)
+    throw Error(fmt::format("layer range {}:{} selects no layer of the {} the model has", params.first_layer + 1,
+                            params.last_layer + 1, L.num_layers));
+  r.count = r.last - r.first + 1;
+  r.padded = std::max(0, params.min_layers - r.count);
+  return r;
+}
+
+std::string rgba_text(const std::array<std::uint8_t, 4>& c) { return fmt::format("{},{},{},{}", c[0], c[1], c[2], c[3]); }
+
+// A file name relative to the output folder with '/' separators on every system.
+std::string relative_name(const std::string& name) { return std::filesystem::path(name).generic_string(); }
+
+// Layers of `previous` whose files all exist with their recorded size and SHA-256.
+std::vector<ManifestFile> intact_files(const std::filesystem::path& dir, const JobManifest& previous) {
+  std::map<int, std::vector<ManifestFile>> by_layer;
+  for (const ManifestFile& f : previous.files)
+    if (f.layer > 0) by_layer[f.layer].push_back(f);  // stack files (layer 0) are rewritten at the end
+  std::vector<ManifestFile> kept;
+  for (auto& [layer, files] : by_layer) {
+    const bool intact = std::all_of(files.begin(), files.end(), [&](const ManifestFile& f) {
+      std::error_code ec;
+      const auto path = dir / f.name;
+      if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != f.bytes || ec)
+        return false;
+      return sha256_file(path).sha256 == f.sha256;
+    });
+    if (intact) kept.insert(kept.end(), files.begin(), files.end());
+  }
+  return kept;
+}
+
+}  // namespace
+
+JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
+  const Scene& scene = slicer.scene();
+  const SliceLayout& L = slicer.layout();
+  const SliceParams& sp = slicer.params();
+  const DitherParams& d = slicer.dither_params();
+  const LayerRange range = layer_range(L, params);
+  JobManifest m;
+  m.tool_version = std::string(version());
+  m.status = JobStatus::kRunning;
+  m.inputs.push_back({"scene", scene.source, scene.source_sha256});
+  for (const SceneInputFile& f : scene.input_files) m.inputs.push_back({"model", f.name, f.sha256});
+  std::vector<std::string> materials;
+  for (const MaterialDef& mat : scene.materials) materials.push_back(fmt::format("{}={}", mat.name, rgba_text(mat.rgba)));
+  const auto num = [](double x) { return fmt::format("{}", x); };
+  m.settings = {
+      {"printer", scene.printer.name},
+      {"materials", fmt::format("{}", fmt::join(materials, " "))},
+      {"bitmap_px", fmt::format("{}x{}", L.width_px, L.height_px)},
+      {"origin_mm", fmt::format("{},{},{}", L.x0_mm, L.y_top_mm, L.z0_mm)},
+      {"pitch_mm", fmt::format("{},{},{}", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm)},
+      {"model_layers", fmt::format("{}", L.num_layers)},
+      {"layers", fmt::format("{}:{}", range.first + 1, range.last + 1)},
+      {"min_layers", fmt::format("{}", params.min_layers)},
+      {"formats", fmt::format("{}", fmt::join(params.formats, ","))},
+      {"prefix", params.prefix},
+      {"background_rgba", rgba_text(params.background_rgba)},
+      {"png_zlib_level", fmt::format("{}", params.png.zlib_level)},
+      {"png_filter", std::string(to_string(params.png.filter))},
+      {"tracing", std::string(to_string(sp.tracing))},
+      {"newton", fmt::format("tol={} iter={} slack={}", num(sp.newton.residual_tolerance_model), sp.newton.max_iterations,
+                             num(sp.newton.outside_slack_relative))},
+      {"global", fmt::format("tol={} iter={} slack={} boxes={} same={} singular={}",
+                             num(sp.global.newton.residual_tolerance_model), sp.global.newton.max_iterations,
+                             num(sp.global.newton.outside_slack_relative), sp.global.max_boxes,
+                             num(sp.global.same_root_relative), num(sp.global.singular_relative))},
+      {"outline_tolerance_mm", sp.outline_tolerance_mm ? num(*sp.outline_tolerance_mm) : std::string("auto")},
+      {"dither", fmt::format("{} serpentine={} vary_by_layer={} skin={} tol={}", dither_method_name(d), d.serpentine,
+                             d.vary_by_layer, d.skin_voxels, num(d.fraction_tolerance))},
+  };
+  m.total_layers = range.total();
+  m.shard_index = params.shard_index;
+  m.shard_count = params.shard_count;
+  return m;
+}
+
+void check_job_settings(const Slicer& slicer, const JobParams& params) {
+  const Scene& scene = slicer.scene();
+  if (scene.num_materials() > scene.printer.max_materials)
+    throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
+                            scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
+  if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
+    throw Error(fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
+  (void)layer_range(slicer.layout(), params);
+}
 
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress) {
   const auto start = std::chrono::steady_clock::now();
   const Scene& scene = slicer.scene();
   const SliceLayout& L = slicer.layout();
-  if (scene.num_materials() > scene.printer.max_materials)
-    throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
-                            scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
-  const int first = std::max(0, params.first_layer);
-  const int last = params.last_layer < 0 ? L.num_layers - 1 : std::min(params.last_layer, L.num_layers - 1);
-  if (first > last)
-    throw Error(fmt::format("layer range {}:{} selects no layer of the {} the model has", params.first_layer,
-                            params.last_layer, L.num_layers));
+  check_job_settings(slicer, params);
+  const LayerRange range = layer_range(L, params);
+  const int total_files = range.total();
 
   std::error_code ec;
   std::filesystem::create_directories(params.output_dir, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", params.output_dir.string(), ec.message()));
 
-  const int count = last - first + 1;
+  const std::filesystem::path manifest_path =
+      params.output_dir / manifest_file_name(params.shard_index, params.shard_count);
+  JobManifest manifest = job_manifest(slicer, params);
+  if (params.resume && std::filesystem::exists(manifest_path, ec)) {
+    const JobManifest previous = read_manifest(manifest_path);
+    const std::vector<std::string> diffs = manifest_differences(previous, manifest);
+    if (!diffs.empty())
+      throw Error(fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
+                              manifest_path.string(), fmt::join(diffs, "; ")));
+    remove_stale_temporaries(params.output_dir);
+    manifest.files = intact_files(params.output_dir, previous);
+  }
+  std::vector<char> kept(static_cast<std::size_t>(total_files), 0);
+  for (const ManifestFile& f : manifest.files) kept[static_cast<std::size_t>(f.layer - 1)] = 1;  // layers >= 1 only
+  std::vector<int> todo;
+  for (int index = 0; index < total_files; ++index)
+    if (shard_has_layer(index, params.shard_index, params.shard_count) && !kept[static_cast<std::size_t>(index)])
+      todo.push_back(index);
+
   JobStats stats;
   stats.layout = L;
-  stats.padded_layers = std::max(0, params.min_layers - count);
-  const int total_files = count + stats.padded_layers;
+  stats.padded_layers = range.padded;
+  stats.layers_kept = static_cast<int>(std::count(kept.begin(), kept.end(), 1));
 
   OutputContext ctx;
   ctx.dir = params.output_dir;
@@ -50,50 +169,145 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   ctx.background_rgba = params.background_rgba;
   ctx.prefix = params.prefix;
   ctx.total_layers = total_files;
+  ctx.model_layers = range.count;
+  ctx.pitch_x_mm = L.pitch_x_mm;
+  ctx.pitch_y_mm = L.pitch_y_mm;
+  ctx.layer_mm = L.layer_mm;
   ctx.png = params.png;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
+  const bool any_stack = std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
+  if (any_stack && params.shard_count > 1)
+    throw Error("the preview format needs every layer of the job in one run: slice it without --shard");
+  // Stack writers see every model layer; those a resumed job keeps are sliced again for them
+  // (the same labels, since a layer depends only on the scene, settings and its index).
+  std::vector<int> refeed;
+  if (any_stack)
+    for (int index = 0; index < total_files; ++index)
+      if (kept[static_cast<std::size_t>(index)]) refeed.push_back(index);
+  write_manifest(manifest_path, manifest);
+  // The colour-to-material sheet depends only on the scene and the settings: written first,
+  // listed with the whole-job files when the job completes.
+  const std::string sheet_name = "materials.csv";
+  {
+    std::vector<MaterialSheetRow> sheet;
+    for (const MaterialDef& m : scene.materials) sheet.push_back({m.name, m.library, m.rgba});
+    write_material_sheet(params.output_dir / sheet_name, params.background_rgba, sheet);
+  }
 
-  stats.layers.resize(static_cast<std::size_t>(count));
-  std::vector<std::vector<std::string>> files(static_cast<std::size_t>(total_files));
-  std::mutex progress_mutex;
+  // Everything below runs under `record_mutex`: the manifest, the file list, the stats and
+  // the progress count change together as each layer completes.
+  std::mutex record_mutex;
   int done = 0;
-  auto write = [&](int index, const LabelImage& labels) {
-    for (const auto& w : writers) {
-      auto written = w->write_layer(index, labels);
-      auto& slot = files[static_cast<std::size_t>(index)];
-      slot.insert(slot.end(), written.begin(), written.end());
+  auto last_manifest_write = std::chrono::steady_clock::now();
+  auto record = [&](int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats) {
+    std::vector<ManifestFile> entries;
+    for (const std::string& name : written) {
+      const FileDigest d = sha256_file(params.output_dir / name);
+      entries.push_back({index + 1, relative_name(name), d.bytes, d.sha256});
     }
-    if (progress) {
-      std::lock_guard lock(progress_mutex);
-      progress->on_layer_done(++done, total_files);
+    std::lock_guard lock(record_mutex);
+    manifest.files.insert(manifest.files.end(), entries.begin(), entries.end());
+    stats.files.insert(stats.files.end(), written.begin(), written.end());
+    if (layer_stats) stats.layers.push_back(std::move(*layer_stats));
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_manifest_write).count() >= params.manifest_interval_seconds) {
+      manifest.sort_files();
+      write_manifest(manifest_path, manifest);
+      last_manifest_write = now;
     }
+    if (progress) progress->on_layer_done(++done, static_cast<int>(todo.size()));
   };
+  auto stop_requested = [&] { return params.stop != nullptr && params.stop->load(); };
 
   stats.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  tbb::task_arena arena(stats.threads);
-  arena.execute([&] {
-    // One layer per task: layers are independent, so any schedule gives the same files.
-    tbb::parallel_for(0, total_files, [&](int index) {
-      if (index < count) {
-        LayerResult r = slicer.slice_layer(first + index);
-        stats.layers[static_cast<std::size_t>(index)] = std::move(r.stats);
-        write(index, r.labels);
-      } else {
-        write(index, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
-      }
+  try {
+    tbb::task_arena arena(stats.threads);
+    arena.execute([&] {
+      // One layer per task: layers are independent, so any schedule gives the same files.
+      tbb::parallel_for(std::size_t{0}, todo.size() + refeed.size(), [&](std::size_t t) {
+        if (stop_requested()) return;
+        if (t >= todo.size()) {
+          const int index = refeed[t - todo.size()];
+          const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
+                                                        : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
+          for (const auto& w : writers)
+            if (w->needs_whole_stack()) w->write_layer(index, labels);
+          return;
+        }
+        const int index = todo[t];
+        std::vector<std::string> written;
+        if (index < range.count) {
+          LayerResult r = slicer.slice_layer(range.first + index);
+          for (const auto& w : writers) {
+            auto files = w->write_layer(index, r.labels);
+            written.insert(written.end(), files.begin(), files.end());
+          }
+          record(index, std::move(written), std::move(r.stats));
+        } else {
+          const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
+          for (const auto& w : writers) {
+            auto files = w->write_layer(index, empty);
+            written.insert(written.end(), files.begin(), files.end());
+          }
+          record(index, std::move(written), std::nullopt);
+        }
+      });
     });
-  });
-  for (auto& f : files) stats.files.insert(stats.files.end(), f.begin(), f.end());
+  } catch (const std::exception& e) {
+    // Record what was completed so that --resume redoes only the rest. The manifest may be
+    // unwritable too (a full disk); the previous one then stands, which is still consistent.
+    manifest.status = JobStatus::kFailed;
+    manifest.message = e.what();
+    manifest.sort_files();
+    try {
+      write_manifest(manifest_path, manifest);
+    } catch (const std::exception&) {
+    }
+    throw;
+  }
+  manifest.sort_files();
   std::sort(stats.files.begin(), stats.files.end());
-  std::vector<MaterialSheetRow> sheet;
-  for (const MaterialDef& m : scene.materials) sheet.push_back({m.name, m.library, m.rgba, 0});
-  for (const LayerStats& s : stats.layers)
-    for (std::size_t j = 0; j < s.voxels_per_material.size() && j < sheet.size(); ++j)
-      sheet[j].voxels += s.voxels_per_material[j];
-  write_material_sheet(params.output_dir / "materials.csv", params.background_rgba, sheet);
+  std::sort(stats.layers.begin(), stats.layers.end(), [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
+  stats.interrupted = stop_requested() && (done < static_cast<int>(todo.size()) || any_stack);
+  if (!stats.interrupted) {
+    // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
+    try {
+      std::vector<std::string> whole_job = {sheet_name};
+      for (const auto& w : writers) {
+        const std::vector<std::string> names = w->finish();
+        whole_job.insert(whole_job.end(), names.begin(), names.end());
+      }
+      for (const std::string& name : whole_job) {
+        const FileDigest d = sha256_file(params.output_dir / name);
+        manifest.files.push_back({0, relative_name(name), d.bytes, d.sha256});
+        stats.files.push_back(name);
+      }
+    } catch (const std::exception& e) {
+      manifest.status = JobStatus::kFailed;
+      manifest.message = e.what();
+      manifest.sort_files();
+      try {
+        write_manifest(manifest_path, manifest);
+      } catch (const std::exception&) {
+      }
+      throw;
+    }
+    manifest.sort_files();
+    std::sort(stats.files.begin(), stats.files.end());
+  }
+  if (stats.interrupted) {
+    manifest.status = JobStatus::kInterrupted;
+    manifest.message = fmt::format("stopped after {} of {} layers; continue with --resume", done, todo.size());
+  } else {
+    manifest.status = JobStatus::kComplete;
+  }
+  write_manifest(manifest_path, manifest);
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  write_stats_json(params.output_dir / "stats.json", slicer, stats);
+  const std::string stats_name = params.shard_count > 1
+                                     ? fmt::format("stats.shard-{}-of-{}.json", params.shard_index, params.shard_count)
+                                     : std::string("stats.json");
+  write_stats_json(params.output_dir / stats_name, slicer, stats);
   return stats;
 }
 
@@ -138,7 +352,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
                   {"z0_mm", L.z0_mm}}},
       {"materials", materials},
       {"total",
-       {{"layers_sliced", stats.layers.size()}, {"layers_padded", stats.padded_layers}, {"threads", stats.threads},
+       {{"layers_sliced", stats.layers.size()}, {"layers_padded", stats.padded_layers},
+        {"layers_kept", stats.layers_kept}, {"interrupted", stats.interrupted}, {"threads", stats.threads},
         {"seconds", stats.seconds}, {"seconds_per_layer_mean", time_sum / n},
         {"pixels_total", total.pixels_total}, {"pixels_inside", total.pixels_inside},
         {"candidates", total.candidates}, {"global_calls", total.global_calls},
@@ -146,13 +361,7 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
         {"newton_evals", total.newton_evals}, {"folded_pixels", total.folded_pixels},
         {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material}}},
       {"layers", layers}};
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << doc.dump(1) << '\n';
-    if (!out) throw IoError(fmt::format("{}: cannot write", tmp.string()));
-  }
-  std::filesystem::rename(tmp, path);
+  write_file_atomic(path, doc.dump(1) + "\n");
 }
 
 }  // namespace trivox

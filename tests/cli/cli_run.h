@@ -69,12 +69,19 @@ inline void write_text(const std::filesystem::path& p, const std::string& text) 
 
 // Runs `trivox <args>` (args already shell-quoted where needed) with `input` on standard input.
 // `stdout_redirect`, when given, replaces the capture of standard output (e.g. "/dev/full").
+// `launcher`, when given, replaces the program: shell commands to run first ending in a
+// `;` ("ulimit -f 16;"), or a program that takes the trivox command as its arguments
+// ("timeout": args must then start with its options and name trivox itself).
 inline CliResult run_cli(const std::string& args, const std::string& input = {},
-                         const std::string& stdout_redirect = {}) {
+                         const std::string& stdout_redirect = {}, const std::string& launcher = {}) {
   ScratchDir dir;
   const auto in = dir.path() / "stdin.txt", out = dir.path() / "stdout.txt", err = dir.path() / "stderr.txt";
   write_text(in, input);
-  const std::string command = shell_quote(cli_path()) + " " + args + " < " + shell_quote(in) + " > " +
+  const bool prefix_only = !launcher.empty() && launcher.back() == ';';
+  const std::string program = launcher.empty() ? shell_quote(cli_path())
+                              : prefix_only   ? launcher + " " + shell_quote(cli_path())
+                                              : launcher;
+  const std::string command = program + " " + args + " < " + shell_quote(in) + " > " +
                               (stdout_redirect.empty() ? shell_quote(out) : stdout_redirect) + " 2> " +
                               shell_quote(err);
   const int status = std::system(command.c_str());

@@ -109,8 +109,7 @@ TEST(SliceJob, SceneDitheringAppliesUnlessOverridden) {
   EXPECT_EQ(dither_method_name(Slicer(scene, {}).dither_params()), "floyd-steinberg");
 }
 
-// materials.csv: the background and every material with its colour and voxel count, the
-// counts those of stats.json.
+// materials.csv: the background and every material with its colour, listed in the manifest.
 TEST(SliceJob, WritesTheColourToMaterialSheet) {
   Scene scene = two_material_scene();
   scene.materials[0].name = "Vero, \"quoted\"";
@@ -121,21 +120,20 @@ TEST(SliceJob, WritesTheColourToMaterialSheet) {
   p.min_layers = 0;
   p.background_rgba = {1, 2, 3, 4};
   run_slice_job(slicer, p);
-  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
-  const auto voxels = stats["total"]["voxels_per_material"];
   const std::string expected =
-      "label,name,library,hex,r,g,b,a,voxels\n"
-      "0,background,,#01020304,1,2,3,4,\n" +
-      fmt::format("1,\"Vero, \"\"quoted\"\"\",,#{:02X}{:02X}{:02X}{:02X},{},{},{},{},{}\n", scene.materials[0].rgba[0],
+      "label,name,library,hex,r,g,b,a\n"
+      "0,background,,#01020304,1,2,3,4\n" +
+      fmt::format("1,\"Vero, \"\"quoted\"\"\",,#{:02X}{:02X}{:02X}{:02X},{},{},{},{}\n", scene.materials[0].rgba[0],
                   scene.materials[0].rgba[1], scene.materials[0].rgba[2], scene.materials[0].rgba[3],
                   scene.materials[0].rgba[0], scene.materials[0].rgba[1], scene.materials[0].rgba[2],
-                  scene.materials[0].rgba[3], voxels[0].get<std::int64_t>()) +
-      fmt::format("2,m1,VeroCyan,#{:02X}{:02X}{:02X}{:02X},{},{},{},{},{}\n", scene.materials[1].rgba[0],
+                  scene.materials[0].rgba[3]) +
+      fmt::format("2,m1,VeroCyan,#{:02X}{:02X}{:02X}{:02X},{},{},{},{}\n", scene.materials[1].rgba[0],
                   scene.materials[1].rgba[1], scene.materials[1].rgba[2], scene.materials[1].rgba[3],
                   scene.materials[1].rgba[0], scene.materials[1].rgba[1], scene.materials[1].rgba[2],
-                  scene.materials[1].rgba[3], voxels[1].get<std::int64_t>());
+                  scene.materials[1].rgba[3]);
   EXPECT_EQ(read_bytes(p.output_dir / "materials.csv"), expected);
-  EXPECT_GT(voxels[0].get<std::int64_t>() + voxels[1].get<std::int64_t>(), 0);
+  const auto manifest = nlohmann::json::parse(read_bytes(p.output_dir / "manifest.json"));
+  EXPECT_NE(manifest.dump().find("materials.csv"), std::string::npos);
 }
 
 TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {

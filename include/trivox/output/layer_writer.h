@@ -21,6 +21,9 @@ struct OutputContext {
   std::array<std::uint8_t, 4> background_rgba{255, 255, 255, 255};
   std::string prefix = "slice_";            // common file-name prefix
   int total_layers = 1;                     // sets the zero padding of the numbers
+  int model_layers = 1;                     // layers 0..model_layers-1 hold the model; the rest are padding
+  // Pixel and layer pitch (mm), for outputs that show the stack at its true proportions.
+  double pitch_x_mm = 1, pitch_y_mm = 1, layer_mm = 1;
   PngWriteParams png;
 };
 
@@ -33,11 +36,30 @@ class LayerWriter {
   // `index` counts from 0; files carry index + 1, zero-padded. Returns the files written
   // (relative to the output folder).
   virtual std::vector<std::string> write_layer(int index, const LabelImage& labels) const = 0;
+
+  // Stack outputs (previews) need every layer of the job: write_layer only collects what
+  // they need (bounded memory), and finish() writes their files once the last layer is in.
+  // The job feeds them every layer, also those a resumed job keeps, and refuses to shard
+  // them.
+  virtual bool needs_whole_stack() const noexcept { return false; }
+  // Called once when every layer of the job (or of its shard) is written; returns files of
+  // the whole job (a text manifest, previews), which must depend only on the settings and,
+  // for stack outputs, on the layers.
+  virtual std::vector<std::string> finish() const { return {}; }
 };
 
 // "voxelprint": one 32-bit RGBA PNG per layer (colour type 6), every material in its exact
 //               colour, everything else the background colour; for GrabCAD Voxel Print.
 // "bitmaps":    the paper's form, one 1-bit PNG per material per layer (1 = material).
+// "preview":    a stack output for a person: preview/contact_sheet.png (a grid of up to 64
+//               downscaled model layers) and preview/cut_xy.png, cut_xz.png, cut_yz.png
+//               (three orthogonal cuts through the middle of the stack), at true
+//               proportions.
+// "tiff":       tiff/stack.tif, one 8-bit palette page per job layer (value = label), for
+//               stack viewers; a stack output (written when the job completes).
+// "legacy":     the bitmap method of the paper's printer: legacy/<prefix><n>_<material>.bmp,
+//               one 1-bit BMP per material per layer (1 = material), and legacy/slices.txt
+//               with the layer thickness, slice count and bitmap names.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
 

@@ -44,8 +44,18 @@ struct Cell {
   std::shared_ptr<const MaterialFunction> material;
 };
 
+// A file a scene reads, with the SHA-256 of its bytes (for the job manifest).
+struct SceneInputFile {
+  std::string name;    // as the scene names it (relative to the scene file's folder)
+  std::string sha256;  // lowercase hex
+};
+
 struct Scene {
   std::string source;  // the scene file as given
+  // SHA-256 of the scene text that was parsed; empty for scenes built in code.
+  std::string source_sha256;
+  // Every model and field file the scene read, once each, in the order first used.
+  std::vector<SceneInputFile> input_files;
   PrinterProfile printer;
   std::vector<MaterialDef> materials;  // material j of every material function is materials[j]
   FractionPolicy fraction_policy;

@@ -3,15 +3,23 @@
 // Determinism: each layer depends only on the scene, the settings and its index, so the
 // files are byte-identical for any thread count and schedule. Memory stays flat in the
 // number of layers: a worker holds one layer at a time and writes it before the next.
+//
+// Safety: every file is written atomically (atomic_file.h), and manifest.json (manifest.h)
+// records the job as layers complete, so a job that is stopped (JobParams::stop), killed or
+// fails can be resumed (JobParams::resume) and ends with the same bytes as one that ran
+// through. A job can also be split into shards (JobParams::shard_*), merged with
+// merge_shards() (job_folder.h).
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "trivox/output/png_io.h"
+#include "trivox/slice/manifest.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {
@@ -29,6 +37,22 @@ struct JobParams {
   // (background) layers after the model's.
   int min_layers = 30;
   PngWriteParams png;
+
+  // Continue the job recorded in the folder's manifest: layers whose files are listed there
+  // and still match their size and SHA-256 are kept; the rest are sliced. Refused (Error) when
+  // the manifest's tool version, inputs or settings differ from this job's. Without a
+  // manifest the job starts from scratch.
+  bool resume = false;
+  // Shard `shard_index` (1-based) of `shard_count`: only the job layers shard_has_layer()
+  // deals to it, recorded in manifest.shard-I-of-N.json and stats.shard-I-of-N.json.
+  int shard_index = 1;
+  int shard_count = 1;
+  // Checked before each layer: once true, no new layer starts, layers in progress finish,
+  // and the manifest is marked interrupted. May be set from a signal handler.
+  const std::atomic<bool>* stop = nullptr;
+  // How often (seconds) the manifest is rewritten while layers complete; 0 = after every
+  // layer. A layer finished but not yet recorded is simply sliced again on resume.
+  double manifest_interval_seconds = 1.0;
 };
 
 struct JobStats {
@@ -37,7 +61,9 @@ struct JobStats {
   int padded_layers = 0;           // empty layers added to reach min_layers
   double seconds = 0;              // wall time of the whole job
   int threads = 0;
-  std::vector<std::string> files;  // every file written, relative to the output folder, sorted
+  std::vector<std::string> files;  // every file written by this run, relative to the output folder, sorted
+  int layers_kept = 0;             // job layers a resumed job found complete and did not redo
+  bool interrupted = false;        // JobParams::stop ended the job early (manifest: interrupted)
 };
 
 // Reports progress from the job's workers (calls are serialised by the job).
@@ -47,13 +73,23 @@ class ProgressSink {
   virtual void on_layer_done(int done, int total) = 0;
 };
 
-// Slices and writes the layers, then the colour-to-material sheet materials.csv
-// (output/material_sheet.h); writes stats.json last. Throws trivox::Error for settings the
-// printer cannot take (more materials than its colour limit), IoError when the folder or a
-// file cannot be written.
+// Slices and writes the layers, keeping the manifest up to date, then the colour-to-material
+// sheet materials.csv (output/material_sheet.h); writes stats.json last
+// (stats.shard-I-of-N.json for a shard). Throws trivox::Error for settings the printer cannot
+// take (more materials than its colour limit) and for a refused resume, IoError when the
+// folder or a file cannot be written (the manifest is then marked failed, when it can be).
+// Returns with stats.interrupted set when JobParams::stop was raised.
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress = nullptr);
 
 // stats.json: per layer and in total, the columns of the paper's Table 2.
+// Throws Error when the job cannot run on the scene's printer or with these settings: more
+// materials than the printer takes, a shard number out of range, an empty layer range.
+void check_job_settings(const Slicer& slicer, const JobParams& params);
+
+// The manifest this job starts from: tool version, inputs, effective settings and layer
+// count, status running, no files.
+JobManifest job_manifest(const Slicer& slicer, const JobParams& params);
+
 void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, const JobStats& stats);
 
 }  // namespace trivox

@@ -1,0 +1,68 @@
+// `trivox validate SCENE [job options]`: checks a scene and a job before it runs and
+// estimates what it will cost (docs/CLI.md#validate).
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include "commands.h"
+#include "job_options.h"
+#include "trivox/scene/scene.h"
+#include "trivox/slice/job_estimate.h"
+
+namespace trivox::cli {
+
+namespace {
+
+struct ValidateOptions {
+  JobOptions job;
+  int samples = 3;
+};
+
+void run_validate(const ValidateOptions& v) {
+  const JobOptions& o = v.job;
+  const JobParams job = job_params_of(o);
+  const Scene scene = read_scene(o.scene);
+  const Slicer slicer(scene, slice_params_of(o, scene));
+  const JobEstimate e = estimate_job(slicer, job, EstimateParams{v.samples});
+  fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
+             scene.printer.name);
+  print_estimate(e);
+  if (!o.output.empty()) {
+    if (const auto free = free_disk_bytes(job.output_dir)) fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
+  }
+  if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
+  if (!o.no_checks) check_job_fits(e, job, memory_limit_of(o));
+  fmt::print("ok: the job can run\n");
+}
+
+}  // namespace
+
+void add_validate_command(CLI::App& app) {
+  auto v = std::make_shared<ValidateOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "validate", "Check a scene and a slicing job without running it; estimate layers, size, memory and time");
+  add_job_options(*cmd, v->job, false);
+  cmd->add_option("--samples", v->samples, "Layers to slice for the size and time estimates")
+      ->check(CLI::Range(0, 50))
+      ->capture_default_str();
+  cmd->callback([v] { run_validate(*v); });
+}
+
+void print_scene_info(const std::string& scene_path) {
+  JobOptions o;
+  o.scene = scene_path;
+  const Scene scene = read_scene(o.scene);
+  const Slicer slicer(scene, slice_params_of(o, scene));
+  const SliceLayout& L = slicer.layout();
+  fmt::print("{}: scene, {} cells, {} materials, printer {}\n", scene_path, scene.cells.size(), scene.num_materials(),
+             scene.printer.name);
+  for (const MaterialDef& m : scene.materials)
+    fmt::print("  material {}: rgba {},{},{},{}\n", m.name, m.rgba[0], m.rgba[1], m.rgba[2], m.rgba[3]);
+  fmt::print("  pixels {:.4f} x {:.4f} mm, layers {:.4f} mm\n", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  fmt::print("estimate for `trivox slice` with the default options:\n");
+  print_estimate(estimate_job(slicer, job_params_of(o)));
+}
+
+}  // namespace trivox::cli

@@ -1,0 +1,140 @@
+#include "job_options.h"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "cli_errors.h"
+#include "trivox/output/layer_writer.h"
+
+namespace trivox::cli {
+
+namespace {
+
+// "a:b" (1-based, inclusive, as in the file names; either end may be left out).
+void parse_layers(const std::string& text, JobParams& p) {
+  if (text.empty()) return;
+  const auto colon = text.find(':');
+  if (colon == std::string::npos) throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
+  try {
+    const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
+    if (!a.empty()) p.first_layer = std::stoi(a) - 1;
+    if (!b.empty()) p.last_layer = std::stoi(b) - 1;
+  } catch (const std::exception&) {
+    throw UsageError(fmt::format("--layers takes FIRST:LAST (1-based), got '{}'", text));
+  }
+  if (p.first_layer < 0 || (p.last_layer >= 0 && p.last_layer < p.first_layer))
+    throw UsageError(fmt::format("--layers {}: layers count from 1 and FIRST must not exceed LAST", text));
+}
+
+// "I/N" with 1 <= I <= N.
+void parse_shard(const std::string& text, JobParams& p) {
+  if (text.empty()) return;
+  const auto slash = text.find('/');
+  bool ok = slash != std::string::npos;
+  if (ok) {
+    try {
+      std::size_t used_i = 0, used_n = 0;
+      p.shard_index = std::stoi(text.substr(0, slash), &used_i);
+      p.shard_count = std::stoi(text.substr(slash + 1), &used_n);
+      ok = used_i == slash && used_n == text.size() - slash - 1;
+    } catch (const std::exception&) {
+      ok = false;
+    }
+  }
+  if (!ok || p.shard_count < 1 || p.shard_index < 1 || p.shard_index > p.shard_count)
+    throw UsageError(fmt::format("--shard takes I/N with 1 <= I <= N (e.g. 2/4), got '{}'", text));
+}
+
+}  // namespace
+
+void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
+  cmd.add_option("scene", o.scene, "Scene file (JSON, docs/SCENE.md)")->required();
+  auto* out = cmd.add_option("-o,--output", o.output, "Output folder (created if missing)");
+  if (output_required) out->required();
+  cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd.add_option("--layers", o.layers, "Only layers FIRST:LAST (1-based, inclusive)");
+  cmd.add_option("--tracing", o.tracing,
+                 "Seeding of the inverse: none, previous-point, previous-line, full (the paper's), predict, flood")
+      ->capture_default_str();
+  cmd.add_option("--residual-tolerance", o.residual_tolerance_mm,
+                 "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  cmd.add_option("--dither", o.dither,
+                 "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
+  cmd.add_option("--skin", o.skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
+  cmd.add_option("--vary-by-layer", o.vary_by_layer,
+                 "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
+  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), preview (contact sheet and cuts)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(layer_writer_names()))
+      ->capture_default_str();
+  cmd.add_option("--prefix", o.prefix, "File-name prefix of the layer images")->capture_default_str();
+  cmd.add_option("--background", o.background, "Background colour R,G,B,A")->delimiter(',')->capture_default_str();
+  cmd.add_option("--min-layers", o.min_layers, "Pad with empty layers up to this count")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  cmd.add_option("--shard", o.shard, "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
+  cmd.add_option("--memory-limit", o.memory_limit_mb, "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
+      ->check(CLI::PositiveNumber);
+  cmd.add_flag("--no-checks", o.no_checks, "Do not refuse a job that the estimates say will not fit the disk or the memory limit");
+}
+
+SliceParams slice_params_of(const JobOptions& o, const Scene& scene) {
+  SliceParams params;
+  const auto strategy = parse_tracing_strategy(o.tracing);
+  if (!strategy)
+    throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line, full, predict or flood, got '{}'",
+                                 o.tracing));
+  params.tracing = *strategy;
+  params.newton.residual_tolerance_model = o.residual_tolerance_mm;
+  // Dithering: the scene's settings, with the options given here on top.
+  DitherParams dither = scene.dithering.value_or(DitherParams{});
+  if (!o.dither.empty() && !set_dither_method(o.dither, dither))
+    throw UsageError(fmt::format("--dither must be one of {}, got '{}'", fmt::join(dither_method_names(), ", "), o.dither));
+  if (o.skin_voxels) {
+    if (*o.skin_voxels < 0 || *o.skin_voxels > DitherParams::kMaxSkinVoxels)
+      throw UsageError(fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
+    dither.skin_voxels = *o.skin_voxels;
+  }
+  if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
+  params.dither = dither;
+  return params;
+}
+
+JobParams job_params_of(const JobOptions& o) {
+  JobParams job;
+  job.output_dir = o.output;
+  job.threads = o.threads;
+  job.formats = o.formats;
+  job.prefix = o.prefix;
+  job.min_layers = o.min_layers;
+  if (o.background.size() != 4) throw UsageError("--background takes four numbers R,G,B,A");
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (o.background[i] < 0 || o.background[i] > 255) throw UsageError("--background values are 0..255");
+    job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
+  }
+  parse_layers(o.layers, job);
+  parse_shard(o.shard, job);
+  return job;
+}
+
+std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
+  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(o.memory_limit_mb * 1e6);
+  return memory_limit_bytes();
+}
+
+void print_estimate(const JobEstimate& e) {
+  fmt::print("  layers: {} ({} of the model, {} empty padding layers)\n", e.job_layers, e.model_layers, e.padded_layers);
+  fmt::print("  bitmap: {} x {} px, {} voxels in all\n", e.width_px, e.height_px, e.pixels);
+  if (e.sampled_layers > 0) {
+    fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
+               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + 1, e.sampled_layers);
+    fmt::print("  time: about {:.0f} s with {} threads (sample layers sliced one at a time on this machine now)\n", e.seconds,
+               e.threads);
+  }
+  fmt::print("  peak memory: about {} with {} threads\n", byte_text(e.peak_memory_bytes), e.threads);
+}
+
+}  // namespace trivox::cli

@@ -1,0 +1,35 @@
+// Operations on a finished job's output folder: merging the shards of a split job into one
+// manifest, and verifying every file the manifest lists (docs/CLI.md, "merge", "verify").
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "trivox/slice/manifest.h"
+
+namespace trivox {
+
+// Finds the shard manifests of `dir` (manifest.shard-I-of-N.json), checks that all N are
+// there, complete, of the same job (manifest_differences) and that together they list every
+// job layer exactly once with files of the recorded size and SHA-256; then writes
+// manifest.json - the same bytes a single run writes - and removes the shard manifests.
+// Throws Error naming the folder and what is missing or inconsistent, IoError when a file
+// cannot be read or written. Returns the merged manifest.
+JobManifest merge_shards(const std::filesystem::path& dir);
+
+struct VerifyReport {
+  JobManifest manifest;
+  int files_checked = 0;
+  // One line per problem, naming the file: missing, wrong size, wrong SHA-256, not a
+  // decodable image, a layer without files, or a job that is not complete.
+  std::vector<std::string> problems;
+  bool ok() const noexcept { return problems.empty(); }
+};
+
+// Re-hashes and decodes (PNG files) every file manifest.json lists. Throws IoError when the
+// folder has no readable manifest.json (and says so when only shard manifests are there),
+// InputError when the manifest is malformed.
+VerifyReport verify_output(const std::filesystem::path& dir);
+
+}  // namespace trivox

@@ -1,0 +1,178 @@
+// The "preview" output: a contact sheet of downscaled layers and three orthogonal cuts
+// through the stack, for a person to check a job at a glance.
+//
+// Memory stays bounded whatever the number of layers: while layers arrive (in any order,
+// from several threads) the writer keeps only a thumbnail of each layer on the sheet (at
+// most 64), one row and one column of every layer (for the x-z and y-z cuts) and the middle
+// layer (the x-y cut). Everything is resampled by nearest neighbour from label images, so
+// the files depend only on the labels: the same for any thread count or order.
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "output/stack_writers.h"
+#include "trivox/error.h"
+#include "trivox/output/png_io.h"
+
+namespace trivox::detail {
+
+namespace {
+
+constexpr int kMaxSheetLayers = 64;
+constexpr int kThumbSidePx = 160;         // longer side of a thumbnail
+constexpr std::uint8_t kGridGray = 128;   // lines between thumbnails
+
+// A resampling of n source samples of pitch `pitch` onto m samples of pitch `target`.
+int resampled_count(int n, double pitch, double target) {
+  return std::max(1, static_cast<int>(std::lround(n * pitch / target)));
+}
+// Source index of target sample i (nearest neighbour at the sample centre).
+int source_index(int i, int m, int n) {
+  return std::min(n - 1, static_cast<int>((static_cast<std::int64_t>(2 * i + 1) * n) / (2 * static_cast<std::int64_t>(m))));
+}
+
+class PreviewWriter final : public LayerWriter {
+ public:
+  explicit PreviewWriter(OutputContext c) : c_(std::move(c)) {
+    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2], 255});
+    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2], 255});
+    const int n = std::max(1, c_.model_layers);
+    sheet_count_ = std::min(kMaxSheetLayers, n);
+    for (int i = 0; i < sheet_count_; ++i) sheet_layers_.push_back(source_index(i, sheet_count_, n));
+    thumbs_.resize(static_cast<std::size_t>(sheet_count_));
+    middle_layer_ = n / 2;
+    rows_.resize(static_cast<std::size_t>(n));
+    cols_.resize(static_cast<std::size_t>(n));
+    std::error_code ec;
+    std::filesystem::create_directories(c_.dir / "preview", ec);
+    if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (c_.dir / "preview").string(), ec.message()));
+  }
+
+  std::string_view name() const noexcept override { return "preview"; }
+  bool needs_whole_stack() const noexcept override { return true; }
+
+  std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
+    if (index >= c_.model_layers) return {};  // padding layers are empty: nothing to show
+    const int w = labels.width_px(), h = labels.height_px();
+    std::vector<std::uint8_t> row(labels.row(h / 2).begin(), labels.row(h / 2).end());
+    std::vector<std::uint8_t> col(static_cast<std::size_t>(h));
+    for (int y = 0; y < h; ++y) col[static_cast<std::size_t>(y)] = labels.at(w / 2, y);
+    std::optional<LabelImage> thumb;
+    const auto sheet_slot = std::find(sheet_layers_.begin(), sheet_layers_.end(), index);
+    if (sheet_slot != sheet_layers_.end()) thumb = downscale(labels);
+    std::lock_guard lock(mutex_);
+    width_ = w;
+    height_ = h;
+    rows_[static_cast<std::size_t>(index)] = std::move(row);
+    cols_[static_cast<std::size_t>(index)] = std::move(col);
+    if (thumb) thumbs_[static_cast<std::size_t>(sheet_slot - sheet_layers_.begin())] = std::move(*thumb);
+    if (index == middle_layer_) middle_ = labels;
+    return {};
+  }
+
+  std::vector<std::string> finish() const override {
+    std::lock_guard lock(mutex_);
+    for (std::size_t i = 0; i < rows_.size(); ++i)
+      if (rows_[i].empty()) throw Error(fmt::format("preview: layer {} never reached the preview writer", i + 1));
+    std::vector<std::string> files;
+    files.push_back(write_sheet());
+    files.push_back(write_cut_xy());
+    files.push_back(write_cut("preview/cut_xz.png", rows_, c_.pitch_x_mm));
+    files.push_back(write_cut("preview/cut_yz.png", cols_, c_.pitch_y_mm));
+    return files;
+  }
+
+ private:
+  // The common pitch of every preview image: the coarsest of the three, so that no image is
+  // larger than the stack it shows in any direction.
+  double iso_pitch() const { return std::max({c_.pitch_x_mm, c_.pitch_y_mm, c_.layer_mm}); }
+
+  LabelImage downscale(const LabelImage& labels) const {
+    const double wx = labels.width_px() * c_.pitch_x_mm, wy = labels.height_px() * c_.pitch_y_mm;
+    const double pitch = std::max(wx, wy) / kThumbSidePx;
+    const int tw = resampled_count(labels.width_px(), c_.pitch_x_mm, pitch);
+    const int th = resampled_count(labels.height_px(), c_.pitch_y_mm, pitch);
+    LabelImage t(tw, th, LabelImage::kVoid);
+    for (int y = 0; y < th; ++y)
+      for (int x = 0; x < tw; ++x)
+        t.at(x, y) = labels.at(source_index(x, tw, labels.width_px()), source_index(y, th, labels.height_px()));
+    return t;
+  }
+
+  void put(std::vector<std::uint8_t>& rgba, std::size_t pixel, std::uint8_t label) const {
+    const auto& c = palette_[std::min<std::size_t>(label, palette_.size() - 1)];
+    std::copy(c.begin(), c.end(), rgba.begin() + static_cast<std::ptrdiff_t>(4 * pixel));
+  }
+
+  std::string write_sheet() const {
+    const int tw = thumbs_.front().width_px(), th = thumbs_.front().height_px();
+    const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(sheet_count_))));
+    const int rows = (sheet_count_ + cols - 1) / cols;
+    const int W = cols * (tw + 1) + 1, H = rows * (th + 1) + 1;
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) * 4, kGridGray);
+    for (std::size_t p = 0; p < rgba.size(); p += 4) rgba[p + 3] = 255;
+    for (int i = 0; i < sheet_count_; ++i) {
+      const LabelImage& t = thumbs_[static_cast<std::size_t>(i)];
+      const int x0 = 1 + (i % cols) * (tw + 1), y0 = 1 + (i / cols) * (th + 1);
+      for (int y = 0; y < th; ++y)
+        for (int x = 0; x < tw; ++x)
+          put(rgba, static_cast<std::size_t>(y0 + y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x0 + x), t.at(x, y));
+    }
+    const std::string file = "preview/contact_sheet.png";
+    write_png_rgba(c_.dir / file, W, H, rgba, c_.png);
+    return file;
+  }
+
+  std::string write_cut_xy() const {
+    const int w = resampled_count(width_, c_.pitch_x_mm, iso_pitch());
+    const int h = resampled_count(height_, c_.pitch_y_mm, iso_pitch());
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        put(rgba, static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x),
+            middle_.at(source_index(x, w, width_), source_index(y, h, height_)));
+    const std::string file = "preview/cut_xy.png";
+    write_png_rgba(c_.dir / file, w, h, rgba, c_.png);
+    return file;
+  }
+
+  // A vertical cut: one line of each layer, the top layer at the top of the image.
+  std::string write_cut(const std::string& file, const std::vector<std::vector<std::uint8_t>>& lines, double pitch) const {
+    const int n = static_cast<int>(lines.front().size()), layers = static_cast<int>(lines.size());
+    const int w = resampled_count(n, pitch, iso_pitch());
+    const int h = resampled_count(layers, c_.layer_mm, iso_pitch());
+    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    for (int y = 0; y < h; ++y) {
+      const auto& line = lines[static_cast<std::size_t>(layers - 1 - source_index(y, h, layers))];
+      for (int x = 0; x < w; ++x)
+        put(rgba, static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x),
+            line[static_cast<std::size_t>(source_index(x, w, n))]);
+    }
+    write_png_rgba(c_.dir / file, w, h, rgba, c_.png);
+    return file;
+  }
+
+  OutputContext c_;
+  std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label, opaque
+  int sheet_count_ = 0;
+  std::vector<int> sheet_layers_;  // model layers on the sheet, ascending
+  int middle_layer_ = 0;
+
+  mutable std::mutex mutex_;
+  mutable int width_ = 0, height_ = 0;
+  mutable std::vector<LabelImage> thumbs_;                // per sheet slot
+  mutable std::vector<std::vector<std::uint8_t>> rows_;   // middle row of each layer
+  mutable std::vector<std::vector<std::uint8_t>> cols_;   // middle column of each layer
+  mutable LabelImage middle_;
+};
+
+}  // namespace
+
+std::unique_ptr<LayerWriter> make_preview_writer(const OutputContext& context) {
+  return std::make_unique<PreviewWriter>(context);
+}
+
+}  // namespace trivox::detail

@@ -1,0 +1,26 @@
+// Writers of the registry (layer_writer.h) that live in their own files: the stack outputs
+// and the legacy bitmap method.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "trivox/output/layer_writer.h"
+
+namespace trivox::detail {
+
+// "preview": contact sheet and three orthogonal cuts (preview_writer.cpp).
+std::unique_ptr<LayerWriter> make_preview_writer(const OutputContext& context);
+
+// "tiff": every layer as a page of tiff/stack.tif (tiff_stack_writer.cpp).
+std::unique_ptr<LayerWriter> make_tiff_stack_writer(const OutputContext& context);
+
+// "legacy": 1-bit BMP per material per layer and legacy/slices.txt (legacy_bitmap_writer.cpp).
+std::unique_ptr<LayerWriter> make_legacy_bitmap_writer(const OutputContext& context);
+
+// A 1-bit uncompressed BMP (BITMAPINFOHEADER, rows bottom-up, palette black/white): one byte
+// per pixel in `bits` (row-major, top row first), nonzero = white = 1.
+std::string encode_bmp1(int width_px, int height_px, const std::uint8_t* bits, double pitch_x_mm, double pitch_y_mm);
+
+}  // namespace trivox::detail

@@ -1,0 +1,165 @@
+#include "trivox/slice/job_estimate.h"
+
+#include <sys/resource.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "trivox/error.h"
+#include "trivox/output/layer_writer.h"
+
+namespace trivox {
+
+namespace {
+
+// Resident memory of this process now (scene, models, prepared cells); 0 when unknown.
+std::uint64_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::uint64_t size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+// What one worker holds while it slices and writes a layer: the material fractions (float
+// per material per pixel), the inside mask and the labels (a byte per pixel each), the
+// dithering's working copy of the fractions, and the largest encoder buffer (RGBA: 4 bytes
+// per pixel).
+std::uint64_t worker_bytes(std::uint64_t pixels, int materials) {
+  return pixels * (2u * 4u * static_cast<std::uint64_t>(materials) + 1u + 1u + 4u);
+}
+
+// Bytes of the manifest's line for one file (name, size and a 64-digit hash).
+constexpr std::uint64_t kManifestBytesPerFile = 140;
+
+}  // namespace
+
+JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const EstimateParams& ep) {
+  const SliceLayout& L = slicer.layout();
+  check_job_settings(slicer, params);
+  const JobManifest m = job_manifest(slicer, params);
+  const int first = std::max(0, params.first_layer);
+  const int last = params.last_layer < 0 ? L.num_layers - 1 : std::min(params.last_layer, L.num_layers - 1);
+  JobEstimate e;
+  e.model_layers = last - first + 1;
+  e.padded_layers = m.total_layers - e.model_layers;
+  int shard_model = 0, shard_padded = 0;
+  for (int index = 0; index < m.total_layers; ++index)
+    if (shard_has_layer(index, params.shard_index, params.shard_count)) (index < e.model_layers ? shard_model : shard_padded)++;
+  e.job_layers = shard_model + shard_padded;
+  e.width_px = L.width_px;
+  e.height_px = L.height_px;
+  const auto layer_pixels = static_cast<std::uint64_t>(L.width_px) * static_cast<std::uint64_t>(L.height_px);
+  e.pixels = static_cast<std::int64_t>(layer_pixels * static_cast<std::uint64_t>(e.job_layers));
+  e.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  e.peak_memory_bytes = resident_bytes() + static_cast<std::uint64_t>(std::min(e.threads, std::max(1, e.job_layers))) *
+                                               worker_bytes(layer_pixels, slicer.scene().num_materials());
+
+  const int samples = std::min(ep.sample_layers, e.model_layers);
+  if (samples <= 0) return e;
+  static std::atomic<int> counter{0};
+  const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
+                                        fmt::format("trivox-estimate-{}-{}", static_cast<long>(::getpid()), counter++);
+  struct Cleanup {
+    std::filesystem::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
+  } cleanup{scratch};
+  std::error_code ec;
+  std::filesystem::create_directories(scratch, ec);
+  if (ec) throw IoError(fmt::format("{}: cannot create a scratch folder for the estimate: {}", scratch.string(), ec.message()));
+  OutputContext ctx;
+  ctx.dir = scratch;
+  for (const MaterialDef& mat : slicer.scene().materials) {
+    ctx.material_names.push_back(mat.name);
+    ctx.material_rgba.push_back(mat.rgba);
+  }
+  ctx.background_rgba = params.background_rgba;
+  ctx.prefix = params.prefix;
+  ctx.total_layers = m.total_layers;
+  ctx.png = params.png;
+  std::vector<std::unique_ptr<LayerWriter>> writers;
+  for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
+
+  auto encode = [&](int index, const LabelImage& labels) {
+    std::uint64_t bytes = 0;
+    int files = 0;
+    for (const auto& w : writers)
+      for (const std::string& name : w->write_layer(index, labels)) {
+        bytes += std::filesystem::file_size(scratch / name);
+        ++files;
+      }
+    e.files_per_layer = files;
+    return bytes;
+  };
+  std::uint64_t sample_bytes = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (int s = 0; s < samples; ++s) {
+    // Evenly spread: the middle of each of `samples` equal parts of the range.
+    const int index = static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(e.model_layers) / (2 * samples));
+    sample_bytes += encode(index, slicer.slice_layer(first + index).labels);
+  }
+  const double per_layer = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / samples;
+  std::uint64_t padding_bytes = 0;
+  if (shard_padded > 0) padding_bytes = encode(e.model_layers, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
+  e.sampled_layers = samples;
+  e.output_bytes = sample_bytes / static_cast<std::uint64_t>(samples) * static_cast<std::uint64_t>(shard_model) +
+                   padding_bytes * static_cast<std::uint64_t>(shard_padded) +
+                   kManifestBytesPerFile * static_cast<std::uint64_t>(e.files_per_layer) * static_cast<std::uint64_t>(e.job_layers);
+  e.seconds = per_layer * std::ceil(static_cast<double>(shard_model) / e.threads);
+  return e;
+}
+
+std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir) {
+  std::filesystem::path p = dir.empty() ? std::filesystem::path(".") : dir;
+  std::error_code ec;
+  while (!std::filesystem::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
+  struct statvfs st {};
+  if (::statvfs(p.c_str(), &st) != 0) return std::nullopt;
+  return static_cast<std::uint64_t>(st.f_bavail) * static_cast<std::uint64_t>(st.f_frsize);
+}
+
+std::optional<std::uint64_t> memory_limit_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  std::optional<std::uint64_t> limit;
+  if (pages > 0 && page > 0) limit = static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
+  struct rlimit rl {};
+  if (::getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+    const auto as = static_cast<std::uint64_t>(rl.rlim_cur);
+    limit = limit ? std::min(*limit, as) : as;
+  }
+  return limit;
+}
+
+void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> memory_limit) {
+  if (e.sampled_layers > 0) {
+    if (const auto free = free_disk_bytes(params.output_dir); free && e.output_bytes > *free)
+      throw Error(fmt::format("{}: the job needs about {} of disk ({} layers x {} files) but only {} is free there; "
+                              "free some space, choose another folder, or override with --no-checks",
+                              params.output_dir.string(), byte_text(e.output_bytes), e.job_layers, e.files_per_layer,
+                              byte_text(*free)));
+  }
+  if (memory_limit && e.peak_memory_bytes > *memory_limit)
+    throw Error(fmt::format("the job needs about {} of memory with {} threads ({} x {} px layers) but the limit is {}; "
+                            "use fewer threads (-j), raise --memory-limit, or override with --no-checks",
+                            byte_text(e.peak_memory_bytes), e.threads, e.width_px, e.height_px, byte_text(*memory_limit)));
+}
+
+std::string byte_text(std::uint64_t bytes) {
+  const double b = static_cast<double>(bytes);
+  if (b >= 1e9) return fmt::format("{:.2f} GB", b / 1e9);
+  if (b >= 1e6) return fmt::format("{:.1f} MB", b / 1e6);
+  if (b >= 1e3) return fmt::format("{:.1f} kB", b / 1e3);
+  return fmt::format("{} B", bytes);
+}
+
+}  // namespace trivox
