@@ -75,6 +75,9 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("--min-layers", o.min_layers, "Pad with empty layers up to this count")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  cmd.add_option("--preview", o.preview_layers,
+                 "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours with square pixels")
+      ->delimiter(',');
   cmd.add_option("--shard", o.shard, "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
   cmd.add_option("--memory-limit", o.memory_limit_mb, "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
       ->check(CLI::PositiveNumber);
@@ -116,6 +119,10 @@ JobParams job_params_of(const JobOptions& o) {
     job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
   }
   parse_layers(o.layers, job);
+  for (int layer : o.preview_layers) {
+    if (layer < 1) throw UsageError(fmt::format("--preview takes layer numbers from 1, got {}", layer));
+    job.preview_layers.push_back(layer - 1);
+  }
   parse_shard(o.shard, job);
   return job;
 }

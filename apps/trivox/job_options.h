@@ -33,6 +33,7 @@ struct JobOptions {
   std::string prefix = "slice_";
   std::vector<int> background{255, 255, 255, 255};
   int min_layers = 30;
+  std::vector<int> preview_layers;  // 1-based
   std::string shard;
   double memory_limit_mb = 0;  // 0 = the machine's memory (memory_limit_bytes())
   bool no_checks = false;

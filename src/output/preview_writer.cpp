@@ -13,6 +13,7 @@
 
 #include <fmt/format.h>
 
+#include "output/nearest_resample.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/output/png_io.h"
@@ -24,15 +25,6 @@ namespace {
 constexpr int kMaxSheetLayers = 64;
 constexpr int kThumbSidePx = 160;         // longer side of a thumbnail
 constexpr std::uint8_t kGridGray = 128;   // lines between thumbnails
-
-// A resampling of n source samples of pitch `pitch` onto m samples of pitch `target`.
-int resampled_count(int n, double pitch, double target) {
-  return std::max(1, static_cast<int>(std::lround(n * pitch / target)));
-}
-// Source index of target sample i (nearest neighbour at the sample centre).
-int source_index(int i, int m, int n) {
-  return std::min(n - 1, static_cast<int>((static_cast<std::int64_t>(2 * i + 1) * n) / (2 * static_cast<std::int64_t>(m))));
-}
 
 class PreviewWriter final : public LayerWriter {
  public:

@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -93,6 +94,7 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"layers", fmt::format("{}:{}", range.first + 1, range.last + 1)},
       {"min_layers", fmt::format("{}", params.min_layers)},
       {"formats", fmt::format("{}", fmt::join(params.formats, ","))},
+      {"preview_layers", fmt::format("{}", fmt::join(params.preview_layers, ","))},
       {"prefix", params.prefix},
       {"background_rgba", rgba_text(params.background_rgba)},
       {"png_zlib_level", fmt::format("{}", params.png.zlib_level)},
@@ -121,7 +123,11 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
-  (void)layer_range(slicer.layout(), params);
+  const LayerRange range = layer_range(slicer.layout(), params);
+  for (int layer : params.preview_layers)
+    if (layer < range.first || layer > range.last)
+      throw Error(fmt::format("preview layer {} is not among the layers this job slices ({} to {})", layer + 1,
+                              range.first + 1, range.last + 1));
 }
 
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress) {
@@ -176,6 +182,11 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   ctx.png = params.png;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
+  if (!params.preview_layers.empty()) {
+    std::vector<std::pair<int, int>> chosen;
+    for (int layer : params.preview_layers) chosen.emplace_back(layer - range.first, layer + 1);
+    writers.push_back(detail::make_layer_preview_writer(ctx, std::move(chosen)));
+  }
   const bool any_stack = std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
   if (any_stack && params.shard_count > 1)
     throw Error("the preview format needs every layer of the job in one run: slice it without --shard");

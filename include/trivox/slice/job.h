@@ -37,6 +37,10 @@ struct JobParams {
   // (background) layers after the model's.
   int min_layers = 30;
   PngWriteParams png;
+  // Model layers (0-based, within first..last) also written for a person to look at:
+  // preview/layer_NNNNN.png, NNNNN the 1-based layer number, in opaque display colours with
+  // square pixels (output/layer_preview_writer.cpp).
+  std::vector<int> preview_layers;
 
   // Continue the job recorded in the folder's manifest: layers whose files are listed there
   // and still match their size and SHA-256 are kept; the rest are sliced. Refused (Error) when
