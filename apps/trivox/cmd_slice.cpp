@@ -3,7 +3,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -75,6 +77,35 @@ void parse_layers(const std::string& text, JobParams& p) {
     throw UsageError(fmt::format("--layers {}: layers count from 1 and FIRST must not exceed LAST", text));
 }
 
+// A job that fails (a fraction sum above 1 met in layer 200, a write error) must not leave a
+// half-written stack that looks like a result. The folder is put back as it was found when
+// it was absent or empty; a folder that already held files is left alone, since they are
+// not this job's to delete.
+class OutputRollback {
+ public:
+  explicit OutputRollback(std::filesystem::path dir) : dir_(std::move(dir)) {
+    std::error_code ec;
+    existed_ = std::filesystem::exists(dir_, ec);
+    was_empty_ = existed_ && std::filesystem::is_directory(dir_, ec) && std::filesystem::is_empty(dir_, ec);
+  }
+  OutputRollback(const OutputRollback&) = delete;
+  OutputRollback& operator=(const OutputRollback&) = delete;
+  ~OutputRollback() {
+    if (committed_ || (existed_ && !was_empty_)) return;
+    std::error_code ec;
+    if (!existed_) {
+      std::filesystem::remove_all(dir_, ec);
+      return;
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) std::filesystem::remove_all(entry.path(), ec);
+  }
+  void commit() noexcept { committed_ = true; }
+
+ private:
+  std::filesystem::path dir_;
+  bool existed_ = false, was_empty_ = false, committed_ = false;
+};
+
 void run(const SliceOptions& o) {
   SliceParams params;
   const auto strategy = parse_tracing_strategy(o.tracing);
@@ -102,7 +133,9 @@ void run(const SliceOptions& o) {
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
   TerminalProgress progress(o.quiet);
+  OutputRollback rollback(job.output_dir);
   const JobStats st = run_slice_job(slicer, job, &progress);
+  rollback.commit();
 
   std::int64_t inside = 0, global = 0;
   for (const LayerStats& s : st.layers) {
