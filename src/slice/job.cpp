@@ -12,6 +12,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "tsan_handoff.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
 
@@ -71,18 +72,26 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
 
   stats.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   tbb::task_arena arena(stats.threads);
-  arena.execute([&] {
-    // One layer per task: layers are independent, so any schedule gives the same files.
-    tbb::parallel_for(0, total_files, [&](int index) {
-      if (index < count) {
-        LayerResult r = slicer.slice_layer(first + index);
-        stats.layers[static_cast<std::size_t>(index)] = std::move(r.stats);
-        write(index, r.labels);
-      } else {
-        write(index, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
-      }
-    });
-  });
+  // One layer per task: layers are independent, so any schedule gives the same files.
+  // parallel_for keeps a reference to slice_one, so it is made before the tasks are handed
+  // their data (tsan_handoff.h).
+  auto slice_one = [&](int index) {
+    detail::TsanHandoff::task_receives();
+    struct PublishAtEnd {
+      ~PublishAtEnd() { detail::TsanHandoff::task_publishes(); }
+    } publish_at_end;
+    if (index < count) {
+      LayerResult r = slicer.slice_layer(first + index);
+      stats.layers[static_cast<std::size_t>(index)] = std::move(r.stats);
+      write(index, r.labels);
+    } else {
+      write(index, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
+    }
+  };
+  auto slice_all = [&] { tbb::parallel_for(0, total_files, slice_one); };
+  detail::TsanHandoff::caller_publishes();
+  arena.execute(slice_all);
+  detail::TsanHandoff::caller_receives();
   for (auto& f : files) stats.files.insert(stats.files.end(), f.begin(), f.end());
   std::sort(stats.files.begin(), stats.files.end());
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
