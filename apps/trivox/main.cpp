@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
-#include <string>
 #include <new>
+#include <string>
 #include <string_view>
 #include <system_error>
 
