@@ -48,6 +48,7 @@ printf 'target\tseconds\texecutions\tcorpus_files\tfindings\n' > "$summary"
 failed=0
 for target in "${targets[@]}"; do
   work="build/fuzz/corpus/$target" seeds="build/fuzz/seeds/$target" artifacts="build/fuzz/artifacts/$target/"
+  rm -rf "$artifacts"  # findings are counted per run
   mkdir -p "$work" "$artifacts" "fuzz/regressions/$target"
   stage_seeds "$target" "$seeds"
   log="build/fuzz/$target.log"
