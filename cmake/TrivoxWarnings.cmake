@@ -7,7 +7,22 @@ target_compile_options(trivox_options INTERFACE
 if(TRIVOX_WERROR)
   target_compile_options(trivox_options INTERFACE -Werror)
 endif()
-if(TRIVOX_SANITIZE)
+if(TRIVOX_BUILD_FUZZERS)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "TRIVOX_BUILD_FUZZERS needs clang (libFuzzer): configure with "
+                        "-DCMAKE_CXX_COMPILER=clang++ or use the preset 'fuzz'")
+  endif()
+  if(TRIVOX_SANITIZE AND NOT TRIVOX_SANITIZE STREQUAL "address" AND NOT TRIVOX_SANITIZE STREQUAL "ON")
+    message(FATAL_ERROR "TRIVOX_BUILD_FUZZERS builds with AddressSanitizer; TRIVOX_SANITIZE=${TRIVOX_SANITIZE} conflicts")
+  endif()
+  # Coverage instrumentation everywhere; the fuzz targets alone link libFuzzer's main.
+  target_compile_options(trivox_options INTERFACE -fsanitize=fuzzer-no-link)
+  set(TRIVOX_SANITIZE address)
+endif()
+if(TRIVOX_SANITIZE STREQUAL "thread")
+  target_compile_options(trivox_options INTERFACE -fsanitize=thread -fno-omit-frame-pointer)
+  target_link_options(trivox_options INTERFACE -fsanitize=thread)
+elseif(TRIVOX_SANITIZE)
   target_compile_options(trivox_options INTERFACE
     -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer)
   target_link_options(trivox_options INTERFACE -fsanitize=address,undefined)

@@ -9,6 +9,8 @@ packages=(
   libfmt-dev libpugixml-dev nlohmann-json3-dev libcli11-dev libtbb-dev
   libpng-dev zlib1g-dev libtiff-dev libmuparser-dev libeigen3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # clang with libFuzzer and the sanitizer runtimes: scripts/fuzz.sh, scripts/tsan.sh
+  clang libclang-rt-14-dev
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

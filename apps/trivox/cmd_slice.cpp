@@ -5,7 +5,9 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -83,6 +85,36 @@ std::uint64_t bytes_already_written(const JobParams& job) {
   return bytes;
 }
 
+// A job that fails on its input (a fraction sum above 1 met in layer 200) must not leave a
+// half-written stack that looks like a result. The folder is put back as it was found when
+// it was absent or empty; a folder that already held files is left alone, since they are
+// not this job's to delete. Write errors keep the completed layers: the manifest then says
+// the job failed, and --resume finishes it once there is room.
+class OutputRollback {
+ public:
+  explicit OutputRollback(std::filesystem::path dir) : dir_(std::move(dir)) {
+    std::error_code ec;
+    existed_ = std::filesystem::exists(dir_, ec);
+    was_empty_ = existed_ && std::filesystem::is_directory(dir_, ec) && std::filesystem::is_empty(dir_, ec);
+  }
+  OutputRollback(const OutputRollback&) = delete;
+  OutputRollback& operator=(const OutputRollback&) = delete;
+  ~OutputRollback() {
+    if (committed_ || (existed_ && !was_empty_)) return;
+    std::error_code ec;
+    if (!existed_) {
+      std::filesystem::remove_all(dir_, ec);
+      return;
+    }
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) std::filesystem::remove_all(entry.path(), ec);
+  }
+  void commit() noexcept { committed_ = true; }
+
+ private:
+  std::filesystem::path dir_;
+  bool existed_ = false, was_empty_ = false, committed_ = false;
+};
+
 void run(const SliceOptions& so) {
   // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
   // interrupted manifest rather than the default action.
@@ -114,7 +146,17 @@ void run(const SliceOptions& so) {
                d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
   }
   TerminalProgress progress(so.quiet);
-  const JobStats st = run_slice_job(slicer, job, &progress);
+  // A job that fails on its input part way leaves no partial stack behind; one that fails
+  // to write (a full disk) or is stopped keeps what it completed for --resume.
+  OutputRollback rollback(job.output_dir);
+  JobStats st;
+  try {
+    st = run_slice_job(slicer, job, &progress);
+  } catch (const IoError&) {
+    rollback.commit();
+    throw;
+  }
+  rollback.commit();
   const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
   if (st.interrupted)
     throw InterruptedError(fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",

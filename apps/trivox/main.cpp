@@ -5,6 +5,7 @@
 #include <cstring>
 #include <exception>
 #include <new>
+#include <string>
 #include <string_view>
 #include <system_error>
 
@@ -33,6 +34,16 @@ int main(int argc, char** argv) {
                  "trivox"};
     app.require_subcommand(1);
     for (const AddCommand add : kCommands) add(app);
+    // CLI11 reports a misspelt command as "A subcommand is required"; name it instead.
+    if (argc > 1 && argv[1][0] != '-') {
+      std::string names;
+      bool known = false;
+      for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+        known = known || sub->get_name() == argv[1];
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+      }
+      if (!known) throw UsageError(fmt::format("unknown command '{}' (the commands are {})", argv[1], names));
+    }
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -197,6 +197,12 @@ bool is_constructed_geometry(const JsonView& node) {
   return false;
 }
 
+bool construction_allows_fold(const JsonView& geometry) {
+  if (!geometry.is_object() || !is_constructed_geometry(geometry) || geometry.json().size() != 1) return false;
+  const auto allow = geometry.members().front().second.find("allow_fold");
+  return allow && allow->boolean();
+}
+
 Constructed parse_construction(const JsonView& node, SceneContext& ctx) {
   if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
   if (node.json().size() != 1 || !is_constructed_geometry(node)) {

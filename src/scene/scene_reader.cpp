@@ -16,6 +16,7 @@
 #include "trivox/io/sha256.h"
 #include "trivox/material/checked_material.h"
 #include "trivox/printer/material_library.h"
+#include "trivox/spline/jacobian_check.h"
 
 namespace trivox {
 
@@ -95,6 +96,19 @@ Json detail::parse_json_text(std::string_view text, const std::string& source) {
     const std::size_t end = std::min<std::size_t>(e.byte > 0 ? e.byte - 1 : 0, text.size());
     const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(end), '\n');
     throw InputError(source, static_cast<int>(line), "", fmt::format("invalid JSON: {}", e.what()));
+  } catch (const Json::exception& e) {
+    // Not a syntax error but a value the parser cannot hold (a number beyond the range of a
+    // double, "1e999"); nlohmann names the text but not where it is, so the line is that of
+    // the first occurrence of the quoted text.
+    const std::string what = e.what();
+    int line = 0;
+    const auto open = what.find('\''), close = what.rfind('\'');
+    if (open != std::string::npos && close > open + 1) {
+      const auto at = text.find(std::string_view(what).substr(open + 1, close - open - 1));
+      if (at != std::string_view::npos)
+        line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+    }
+    throw InputError(source, line, "", fmt::format("invalid JSON: {}", what));
   }
 }
 
@@ -245,6 +259,19 @@ DitherParams parse_dithering(const JsonView& node) {
   return params;
 }
 
+// A cell whose Jacobian determinant changes sign folds over itself: some points have
+// several (u,v,w), so the material at a voxel would depend on which preimage the solver
+// meets first. Such a cell is refused when the scene is read (the sampled check of
+// jacobian_check.h; left-handed and degenerate cells are valid), unless a constructor's
+// "allow_fold" accepts it.
+void reject_folded(const Volume& volume, const std::string& cell, const JsonView& geometry) {
+  const JacobianReport r = check_jacobian(volume);
+  if (r.classification == JacobianClass::kFolded)
+    geometry.fail(fmt::format("cell '{}' folds over itself: det J takes both signs ({} of {} samples positive, "
+                              "{} negative, det J in [{:g}, {:g}]), so some points have several (u,v,w)",
+                              cell, r.positive, r.positive + r.negative + r.zero, r.negative, r.min_det, r.max_det));
+}
+
 void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
   const std::vector<JsonView> cells = node.elements(1);
   for (std::size_t i = 0; i < cells.size(); ++i) {
@@ -261,6 +288,7 @@ void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) 
       Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume)
                                 : std::move(part.volume);
       std::string name = part.label.empty() ? base_name : base_name + "/" + part.label;
+      if (!detail::construction_allows_fold(c.at("geometry"))) reject_folded(volume, name, c.at("geometry"));
       for (const Cell& other : scene.cells)
         if (other.name == name)
           (c.find("name") ? c.at("name") : c)
@@ -307,6 +335,9 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
 }
 
 Scene read_scene(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError(fmt::format("cannot read the scene file {}: it is a folder", path.string()));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(fmt::format("cannot open the scene file {}", path.string()));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

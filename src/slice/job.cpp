@@ -15,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "output/stack_writers.h"
+#include "tsan_handoff.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -234,9 +235,14 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   stats.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
     tbb::task_arena arena(stats.threads);
-    arena.execute([&] {
-      // One layer per task: layers are independent, so any schedule gives the same files.
-      tbb::parallel_for(std::size_t{0}, todo.size() + refeed.size(), [&](std::size_t t) {
+    // One layer per task: layers are independent, so any schedule gives the same files.
+    // parallel_for keeps a reference to slice_one, so it is made before the tasks are handed
+    // their data (tsan_handoff.h).
+    auto slice_one = [&](std::size_t t) {
+        detail::TsanHandoff::task_receives();
+        struct PublishAtEnd {
+          ~PublishAtEnd() { detail::TsanHandoff::task_publishes(); }
+        } publish_at_end;
         if (stop_requested()) return;
         if (t >= todo.size()) {
           const int index = refeed[t - todo.size()];
@@ -263,8 +269,11 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
           }
           record(index, std::move(written), std::nullopt);
         }
-      });
-    });
+    };
+    auto slice_all = [&] { tbb::parallel_for(std::size_t{0}, todo.size() + refeed.size(), slice_one); };
+    detail::TsanHandoff::caller_publishes();
+    arena.execute(slice_all);
+    detail::TsanHandoff::caller_receives();
   } catch (const std::exception& e) {
     // Record what was completed so that --resume redoes only the rest. The manifest may be
     // unwritable too (a full disk); the previous one then stands, which is still consistent.

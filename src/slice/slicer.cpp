@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <chrono>
 
+#include <fmt/format.h>
+
 #include "boundary_mesh.h"
 #include "cell_tracer.h"
 #include "scanline.h"
+#include "trivox/error.h"
 #include "trivox/raster/dither.h"
 
 namespace trivox {
@@ -25,6 +28,14 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   dither_.validate();
   outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(
       0.25 * std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
+  // The control points' box holds every cell, so its layout bounds the final one: checking it
+  // first refuses a job too large to lay out before any outline is built.
+  try {
+    const Box3 hull = scene.bounds();
+    if (!hull.empty()) make_layout(hull, scene.printer);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}: {}", scene.source, e.what()));
+  }
   Box3 bounds;
   for (const Cell& c : scene.cells) {
     cells_.push_back(std::make_unique<CellData>(c, outline_tolerance_mm_));

@@ -151,6 +151,17 @@ TEST(SceneGeometry, PlacementRules) {
   expect_scene_error(s.dump(), "/cells/0/placement/rotate", "\"rotate_deg\"");
 }
 
+TEST(SceneGeometry, FoldedCellIsRefusedMirroredCellIsKept) {
+  // Moving one corner of the top face across the opposite side makes det J change sign.
+  ordered_json folded = kUnitBox;
+  folded["points"][5] = {-1, 0, 1};
+  expect_scene_error(scene_with(folded, kConstant).dump(), "/cells/0/geometry", "folds over itself");
+  // A mirror (det J < 0 everywhere) is a valid, left-handed cell.
+  ordered_json s = scene_with(kUnitBox, kConstant);
+  s["cells"][0]["placement"] = {{"scale", {-1, 1, 1}}};
+  EXPECT_EQ(parse_scene(s.dump(), "s.json").cells.size(), 1u);
+}
+
 TEST(SceneGeometry, RationalInlineVolumeIsExact) {
   // A quarter annulus (radii 1 and 2) from inline NURBS control points: every point of the
   // face u = 1 lies at radius 2.

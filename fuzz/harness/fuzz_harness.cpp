@@ -1,0 +1,143 @@
+#include "harness/fuzz_harness.h"
+
+#include <array>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "trivox/error.h"
+#include "trivox/io/model.h"
+#include "trivox/material/expression_material.h"
+#include "trivox/scene/scene.h"
+
+namespace trivox::fuzz {
+
+namespace {
+
+std::string_view as_text(std::span<const std::uint8_t> data) {
+  return {reinterpret_cast<const char*>(data.data()), data.size()};
+}
+
+// A model the reader accepted must write as .itd and read back with the same patches: the
+// writer promises a lossless round trip, so a failure here is the library's bug, not the
+// input's.
+void check_round_trip(const Model& model) {
+  std::ostringstream out;
+  write_itd(out, model);
+  Model back;
+  try {
+    back = read_itd(out.str(), "round-trip.itd");
+  } catch (const Error& e) {
+    throw HarnessViolation(std::string("an accepted model does not read back from write_itd: ") + e.what());
+  }
+  if (back.patches.size() != model.patches.size())
+    throw HarnessViolation("an accepted model reads back from write_itd with another patch count");
+}
+
+void run_model_reader(Model (*reader)(std::string_view, const std::string&), std::span<const std::uint8_t> data,
+                      const std::string& source) {
+  Model model;
+  try {
+    model = reader(as_text(data), source);
+  } catch (const Error&) {
+    return;  // rejected with a documented error: the expected outcome for most inputs
+  }
+  check_round_trip(model);
+}
+
+// Corners and centre of the cell's domain, with positions from the cell's own volume.
+void evaluate_materials(const Scene& scene) {
+  std::vector<float> fractions(static_cast<std::size_t>(scene.num_materials()));
+  for (const Cell& cell : scene.cells) {
+    const ParamBox d = cell.volume.domain();
+    std::vector<Vec3> samples{d.center()};
+    for (int corner = 0; corner < 8; ++corner)
+      samples.push_back({corner & 1 ? d.hi.x : d.lo.x, corner & 2 ? d.hi.y : d.lo.y, corner & 4 ? d.hi.z : d.lo.z});
+    for (const Vec3& uvw : samples) cell.material->evaluate(uvw, cell.volume.evaluate(uvw), fractions);
+  }
+}
+
+void write_file(const std::filesystem::path& path, std::string_view text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw std::runtime_error("cannot write " + path.string());
+}
+
+}  // namespace
+
+void run_itd(std::span<const std::uint8_t> data) { run_model_reader(&read_itd, data, "fuzz.itd"); }
+
+void run_gismo_xml(std::span<const std::uint8_t> data) { run_model_reader(&read_gismo_xml, data, "fuzz.xml"); }
+
+void run_scene(std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir) {
+  try {
+    const Scene scene = parse_scene(as_text(data), scene_dir / "scenes" / "scene.json");
+    evaluate_materials(scene);
+  } catch (const Error&) {
+  }
+}
+
+void run_expression(std::span<const std::uint8_t> data) {
+  ExpressionParams params;
+  std::string_view text = as_text(data);
+  while (params.expressions.size() < 8) {
+    const auto end = text.find('\n');
+    params.expressions.emplace_back(text.substr(0, end));
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+  params.constants = {{"k", 2.5}, {"period_mm", 10.0}};
+  const ParamBox domain{{0.0, -1.0, 2.0}, {3.0, 1.0, 2.5}};
+  try {
+    const ExpressionMaterial material(std::move(params), domain);
+    constexpr std::size_t kSamples = 5;
+    std::array<Vec3, kSamples> uvw{}, xyz{};
+    for (std::size_t s = 0; s < kSamples; ++s) {
+      const double t = static_cast<double>(s) / (kSamples - 1);
+      uvw[s] = domain.lo + t * domain.size();
+      xyz[s] = {10.0 * t, -5.0 + t, 100.0 * t * t};
+    }
+    std::vector<float> fractions(kSamples * static_cast<std::size_t>(material.num_materials()));
+    material.evaluate_row(uvw, xyz, fractions);
+  } catch (const Error&) {
+  }
+}
+
+void prepare_scene_dir(const std::filesystem::path& dir, const std::filesystem::path& examples_models) {
+  namespace fs = std::filesystem;
+  fs::create_directories(dir / "models");
+  fs::create_directories(dir / "scenes");
+  write_file(dir / "models" / "box.itd",
+             "[OBJECT BOX\n"
+             "    [TRIVAR BSPLINE 2 2 2 2 2 2 E3\n"
+             "\t[KV 0 0 1 1]\n\t[KV 0 0 1 1]\n\t[KV 0 0 1 1]\n"
+             "\t[0 0 0]\n\t[10 0 0]\n\t[0 10 0]\n\t[10 10 0]\n"
+             "\t[0 0 5]\n\t[10 0 5]\n\t[0 10 5]\n\t[10 10 5]\n"
+             "    ]\n]\n");
+  write_file(dir / "models" / "box.xml",
+             "<?xml version=\"1.0\"?>\n<xml>\n <Geometry type=\"TensorBSpline3\" id=\"0\">\n"
+             "  <Basis type=\"TensorBSplineBasis3\">\n"
+             "   <Basis type=\"BSplineBasis\" index=\"0\"><KnotVector degree=\"1\">0 0 1 1</KnotVector></Basis>\n"
+             "   <Basis type=\"BSplineBasis\" index=\"1\"><KnotVector degree=\"1\">0 0 1 1</KnotVector></Basis>\n"
+             "   <Basis type=\"BSplineBasis\" index=\"2\"><KnotVector degree=\"1\">0 0 1 1</KnotVector></Basis>\n"
+             "  </Basis>\n"
+             "  <coefs geoDim=\"3\">0 0 0 10 0 0 0 10 0 10 10 0 0 0 5 10 0 5 0 10 5 10 10 5</coefs>\n"
+             " </Geometry>\n</xml>\n");
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(examples_models, ec))
+    if (entry.is_regular_file()) fs::copy_file(entry.path(), dir / "models" / entry.path().filename(),
+                                               fs::copy_options::overwrite_existing);
+}
+
+bool run_target(std::string_view target, std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir) {
+  if (target == "itd") run_itd(data);
+  else if (target == "gismo_xml") run_gismo_xml(data);
+  else if (target == "scene") run_scene(data, scene_dir);
+  else if (target == "expression") run_expression(data);
+  else return false;
+  return true;
+}
+
+}  // namespace trivox::fuzz

@@ -1,0 +1,52 @@
+// What each fuzz target does with one input, shared by the libFuzzer programs (fuzz/*.cpp)
+// and the regression test that replays the checked-in inputs in every build
+// (tests/fuzz/fuzz_regressions_test.cpp).
+//
+// The contract under test: any bytes given to a reader end in a result or in one of the
+// library's documented errors (trivox::Error and its subclasses). Each function returns
+// normally in both cases. Anything else - another exception type, a crash, a leak, undefined
+// behaviour, a result that breaks the reader's own promises (a written model that does not
+// read back) - escapes, and the fuzzer reports it as a finding.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <stdexcept>
+#include <string_view>
+
+namespace trivox::fuzz {
+
+// A reader returned something that breaks its documented guarantees.
+class HarnessViolation : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+// The targets, by the name used for fuzz/corpus/<name> and fuzz/regressions/<name>.
+inline constexpr std::string_view kTargets[] = {"itd", "gismo_xml", "scene", "expression"};
+
+// IRIT .itd text: read_itd; an accepted model must survive write_itd and read back with the
+// same patch count.
+void run_itd(std::span<const std::uint8_t> data);
+// G+Smo XML: read_gismo_xml; same round trip through write_itd.
+void run_gismo_xml(std::span<const std::uint8_t> data);
+// Scene JSON text: parse_scene as if the file were `scene_dir`/scene.json (model files named
+// by the scene resolve there, see prepare_scene_dir); an accepted scene's materials are then
+// evaluated at the corners and centre of every cell.
+void run_scene(std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir);
+// Expression materials: each line of the input is one material's expression (at most 8);
+// the material is built over a cell domain and evaluated on a short row of samples.
+void run_expression(std::span<const std::uint8_t> data);
+
+// Fills `dir` with the files a fuzzed scene may name: models/box.itd (a trilinear box),
+// models/box.xml (the same box in G+Smo XML) and the bundled example models copied from
+// `examples_models` when that folder exists. Scenes then live in dir/scenes/.
+void prepare_scene_dir(const std::filesystem::path& dir, const std::filesystem::path& examples_models);
+
+// Dispatches on a target name from kTargets (false for an unknown name).
+bool run_target(std::string_view target, std::span<const std::uint8_t> data,
+                const std::filesystem::path& scene_dir);
+
+}  // namespace trivox::fuzz

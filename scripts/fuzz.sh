@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (preset "fuzz": clang, AddressSanitizer + UBSan) and runs each
+# for SECONDS (default 90), one after the other:
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     TARGETs: itd gismo_xml scene expression (all)
+# Seeds: fuzz/corpus/<target>/ (written for the fuzzers), the regression inputs
+# fuzz/regressions/<target>/, and files staged from examples/ and tests/data/ at run time.
+# New inputs go to build/fuzz/corpus/<target>/ (kept between runs), crash inputs to
+# build/fuzz/artifacts/<target>/. Fails when any target reports a crash, a leak, undefined
+# behaviour, a timeout (10 s per input) or an out-of-memory (2 GB). Ends with one line per
+# target: seconds, executions, corpus size, findings; the same table goes to
+# build/fuzz/summary.tsv.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+seconds="${1:-90}"
+shift || true
+targets=("$@")
+[ "${#targets[@]}" -gt 0 ] || targets=(itd gismo_xml scene expression)
+case "$seconds" in
+  ''|*[!0-9]*) echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2 ;;
+esac
+jobs="${TRIVOX_JOBS:-$(nproc)}"
+
+scripts/install-deps.sh
+cmake --preset fuzz
+cmake --build --preset fuzz --parallel "$jobs" --target "${targets[@]/#/fuzz_}"
+
+# Seeds taken from files the repository already holds for other purposes.
+stage_seeds() {
+  local target="$1" dir="$2"
+  rm -rf "$dir"
+  mkdir -p "$dir"
+  case "$target" in
+    itd) cp examples/models/*.itd tests/data/models/*.itd tests/data/malformed/*.itd "$dir"/ ;;
+    gismo_xml) cp tests/data/models/*.xml tests/data/malformed/*.xml "$dir"/ ;;
+    scene) cp examples/scenes/*.json "$dir"/ ;;
+    expression)
+      # Each fractions value of the example scenes, one file per expression.
+      grep -ho '"Vero[A-Za-z]*": "[^"]*"' examples/scenes/*.json | sed 's/^[^:]*: "//; s/"$//' |
+        awk -v dir="$dir" '{ print > (dir "/example_" NR ".txt") }' ;;
+  esac
+}
+
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
+summary=build/fuzz/summary.tsv
+printf 'target\tseconds\texecutions\tcorpus_files\tfindings\n' > "$summary"
+failed=0
+for target in "${targets[@]}"; do
+  work="build/fuzz/corpus/$target" seeds="build/fuzz/seeds/$target" artifacts="build/fuzz/artifacts/$target/"
+  rm -rf "$artifacts"  # findings are counted per run
+  mkdir -p "$work" "$artifacts" "fuzz/regressions/$target"
+  stage_seeds "$target" "$seeds"
+  log="build/fuzz/$target.log"
+  echo "fuzz.sh: fuzz_$target for ${seconds}s (log: $log)"
+  set +e
+  "build/fuzz/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+    -print_final_stats=1 -artifact_prefix="$artifacts" \
+    "$work" "fuzz/corpus/$target" "fuzz/regressions/$target" "$seeds" > "$log" 2>&1
+  status=$?
+  set -e
+  runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -n 1 || true)
+  files=$(find "$work" -type f | wc -l)
+  findings=$(find "$artifacts" -type f | wc -l)
+  printf '%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "${runs:-?}" "$files" "$findings" >> "$summary"
+  if [ "$status" -ne 0 ]; then
+    failed=1
+    echo "fuzz.sh: fuzz_$target FAILED (exit $status); the report:" >&2
+    grep -E -A 30 '^==[0-9]+==ERROR|runtime error|^SUMMARY|deadly signal|timeout|out-of-memory' "$log" | head -n 60 >&2 || tail -n 40 "$log" >&2
+  fi
+done
+
+awk -F"\t" '{ printf "%-12s %8s %12s %12s %9s\n", $1, $2, $3, $4, $5 }' "$summary"
+exit "$failed"
