@@ -1,9 +1,14 @@
 // Every bundled example scene gives the same output bytes for 1, 2 and 8 threads, three
 // times each (two layers from the middle of each, to keep the suite quick).
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -28,42 +33,56 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
   return out;
 }
 
-TEST(Determinism, EveryExampleSceneIsIdenticalAcrossThreadCountsAndRepeats) {
-  const fs::path scenes = fs::path(TRIVOX_EXAMPLES_DIR) / "scenes";
-  int examples = 0;
-  for (const auto& entry : fs::directory_iterator(scenes)) {
-    if (entry.path().extension() != ".json") continue;
-    ++examples;
-    const Scene scene = read_scene(entry.path());
-    const Slicer slicer(scene, {});
-    const int middle = slicer.layout().num_layers / 2;
-    std::map<std::string, std::string> first;
-    int runs = 0;
-    for (int threads : {1, 2, 8}) {
-      for (int repeat = 0; repeat < 3; ++repeat) {
-        JobParams p;
-        p.output_dir = fs::temp_directory_path() / fmt::format("trivox-determinism-{}", entry.path().stem().string());
-        fs::remove_all(p.output_dir);
-        p.first_layer = std::max(0, middle - 1);
-        p.last_layer = middle;
-        p.min_layers = 0;
-        p.threads = threads;
-        p.formats = {"voxelprint", "bitmaps"};
-        run_slice_job(slicer, p);
-        const auto bytes = folder_bytes(p.output_dir);
-        fs::remove_all(p.output_dir);
-        if (runs++ == 0) {
-          first = bytes;
-          EXPECT_GE(first.size(), 3u) << entry.path();  // two layers and the manifest at least
-        } else {
-          EXPECT_EQ(bytes, first) << entry.path() << " with " << threads << " threads, repeat " << repeat;
-        }
+// One test per example, so that CTest runs them side by side and each has its own time limit.
+const std::vector<std::string>& example_scenes() {
+  static const std::vector<std::string> names = {"box_gradient",  "column_scalar_gradient", "cylinder_sector_curves",
+                                                 "expression_layers", "quick_start", "twisted_column_porous"};
+  return names;
+}
+
+TEST(Determinism, EveryExampleSceneIsListed) {
+  std::vector<std::string> found;
+  for (const auto& entry : fs::directory_iterator(fs::path(TRIVOX_EXAMPLES_DIR) / "scenes"))
+    if (entry.path().extension() == ".json") found.push_back(entry.path().stem().string());
+  std::sort(found.begin(), found.end());
+  EXPECT_EQ(found, example_scenes());
+}
+
+class DeterminismOfExample : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
+  const fs::path path = fs::path(TRIVOX_EXAMPLES_DIR) / "scenes" / (GetParam() + ".json");
+  const Scene scene = read_scene(path);
+  const Slicer slicer(scene, {});
+  const int middle = slicer.layout().num_layers / 2;
+  std::map<std::string, std::string> first;
+  int runs = 0;
+  for (int threads : {1, 2, 8}) {
+    for (int repeat = 0; repeat < 3; ++repeat) {
+      JobParams p;
+      p.output_dir = fs::temp_directory_path() / fmt::format("trivox-determinism-{}-{}", ::getpid(), GetParam());
+      fs::remove_all(p.output_dir);
+      p.first_layer = std::max(0, middle - 1);
+      p.last_layer = middle;
+      p.min_layers = 0;
+      p.threads = threads;
+      p.formats = {"voxelprint", "bitmaps"};
+      run_slice_job(slicer, p);
+      const auto bytes = folder_bytes(p.output_dir);
+      fs::remove_all(p.output_dir);
+      if (runs++ == 0) {
+        first = bytes;
+        EXPECT_GE(first.size(), 3u) << path;  // two layers and the manifest at least
+      } else {
+        EXPECT_EQ(bytes, first) << path << " with " << threads << " threads, repeat " << repeat;
       }
     }
-    EXPECT_EQ(runs, 9);
   }
-  EXPECT_GE(examples, 6);
+  EXPECT_EQ(runs, 9);
 }
+
+INSTANTIATE_TEST_SUITE_P(Examples, DeterminismOfExample, ::testing::ValuesIn(example_scenes()),
+                         [](const ::testing::TestParamInfo<std::string>& param_info) { return param_info.param; });
 
 }  // namespace
 }  // namespace trivox
