@@ -35,8 +35,9 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
 
 // One test per example, so that CTest runs them side by side and each has its own time limit.
 const std::vector<std::string>& example_scenes() {
-  static const std::vector<std::string> names = {"box_gradient",  "column_scalar_gradient", "cylinder_sector_curves",
-                                                 "expression_layers", "quick_start", "twisted_column_porous"};
+  static const std::vector<std::string> names = {
+      "box_gradient", "chalice",     "column_scalar_gradient", "cylinder_sector_curves", "dithering_skin",
+      "expression_layers", "quick_start", "texture_composition", "twisted_column_porous"};
   return names;
 }
 
