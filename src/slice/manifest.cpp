@@ -201,8 +201,9 @@ std::vector<std::string> manifest_differences(const JobManifest& previous, const
     }
   }
   for (const auto& [key, value] : current.settings) {
+    // (Lambdas capture a copy of the name: clang 14 cannot capture structured bindings.)
     const auto it = std::find_if(previous.settings.begin(), previous.settings.end(),
-                                 [&](const auto& kv) { return kv.first == key; });
+                                 [name = key](const auto& kv) { return kv.first == name; });
     if (it == previous.settings.end())
       out.push_back(fmt::format("setting {} is new ({})", key, value));
     else if (it->second != value)
@@ -210,7 +211,7 @@ std::vector<std::string> manifest_differences(const JobManifest& previous, const
   }
   for (const auto& [key, value] : previous.settings) {
     const bool kept = std::any_of(current.settings.begin(), current.settings.end(),
-                                  [&](const auto& kv) { return kv.first == key; });
+                                  [name = key](const auto& kv) { return kv.first == name; });
     if (!kept) out.push_back(fmt::format("setting {} (\"{}\") is gone", key, value));
   }
   if (previous.total_layers != current.total_layers)
