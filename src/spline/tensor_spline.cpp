@@ -33,6 +33,16 @@ void TensorSpline::validate() const {
   for (std::size_t i = 0; i < weights_.size(); ++i)
     if (!std::isfinite(weights_[i]) || !(weights_[i] > 0.0))
       throw ModelError(fmt::format("weight of control point {} is {}; weights must be finite and > 0", i, weights_[i]));
+  // Rational splines are evaluated (and written to .itd) in homogeneous form, w * x: that
+  // product must be a finite double too.
+  for (std::size_t i = 0; i < weights_.size(); ++i)
+    for (int c = 0; c < point_dim_; ++c) {
+      const double p = points_[i * static_cast<std::size_t>(point_dim_) + static_cast<std::size_t>(c)];
+      if (!std::isfinite(weights_[i] * p))
+        throw ModelError(fmt::format("control point {}: weight {} times coordinate {} overflows; the weighted "
+                                     "coordinates of a rational spline must be finite numbers",
+                                     i, weights_[i], p));
+    }
 }
 
 namespace {
