@@ -20,7 +20,8 @@ namespace {
 // det J counts as zero when it is negligible against the product of the column lengths (the
 // volume of the parallelepiped against the volume its edges could span).
 double singular_threshold(const Mat3& J) noexcept {
-  return 1e-14 * norm(J.column(0)) * norm(J.column(1)) * norm(J.column(2));
+  const Vec3 a = J.column(0), b = J.column(1), c = J.column(2);
+  return 1e-14 * std::sqrt(dot(a, a) * dot(b, b) * dot(c, c));  // one root on the hot path, not three
 }
 }  // namespace
 
@@ -92,19 +93,22 @@ InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 se
   InverseResult r;
   r.iterations = 1;
   r.uvw = u0;
-  r.residual = norm(x - p);
-  if (r.residual <= params.residual_tolerance_model) {
+  // Residuals are compared squared; the root is taken once, for the result.
+  const double tol2 = params.residual_tolerance_model * params.residual_tolerance_model;
+  const Vec3 r0 = x - p;
+  if (dot(r0, r0) <= tol2) {
+    r.residual = norm(r0);
     r.status = InverseStatus::kConverged;
     return r;
   }
-  if (solve3(jacobian, x - p, d, singular_threshold(jacobian))) {
+  if (solve3(jacobian, r0, d, singular_threshold(jacobian))) {
     const Vec3 target = u0 + d;
     if (box.contains(target)) {
-      const Vec3 q = volume.evaluate(target);
+      const Vec3 r1 = x - volume.evaluate(target);
       r.iterations = 2;
       r.uvw = target;
-      r.residual = norm(x - q);
-      if (r.residual <= params.residual_tolerance_model) {
+      if (dot(r1, r1) <= tol2) {
+        r.residual = norm(r1);
         r.status = InverseStatus::kConverged;
         return r;
       }
