@@ -2,9 +2,11 @@
 // trivox program, one CTest entry per row. Each must end with its documented exit code
 // (docs/CLI.md), a message on standard error holding the row's texts (the file and the
 // field, line or option at fault, and the rule), within 2 s and 256 MB, leaving nothing in
-// the output folder. The program runs in a child process (no shell), so its own peak memory
-// (wait4's ru_maxrss) and time are measured; RLIMIT_AS would also catch the memory, but it
-// cannot be used under AddressSanitizer, which reserves terabytes of address space.
+// the output folder. The program runs in a child process (no shell) and its peak memory is
+// wait4's ru_maxrss. Linux keeps the child's high-water mark across exec, so the figure also
+// counts the test process's pages the forked child held before exec: an upper bound, larger
+// under AddressSanitizer. RLIMIT_AS cannot be used instead: AddressSanitizer reserves
+// terabytes of address space.
 #include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
