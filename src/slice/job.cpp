@@ -157,10 +157,10 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   }
   std::vector<char> kept(static_cast<std::size_t>(total_files), 0);
   for (const ManifestFile& f : manifest.files) kept[static_cast<std::size_t>(f.layer - 1)] = 1;  // layers >= 1 only
-  std::vector<int> todo;
+  std::vector<int> pending;  // job layers this run slices
   for (int index = 0; index < total_files; ++index)
     if (shard_has_layer(index, params.shard_index, params.shard_count) && !kept[static_cast<std::size_t>(index)])
-      todo.push_back(index);
+      pending.push_back(index);
 
   JobStats stats;
   stats.layout = L;
@@ -228,9 +228,20 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
       write_manifest(manifest_path, manifest);
       last_manifest_write = now;
     }
-    if (progress) progress->on_layer_done(++done, static_cast<int>(todo.size()));
+    if (progress) progress->on_layer_done(++done, static_cast<int>(pending.size()));
   };
   auto stop_requested = [&] { return params.stop != nullptr && params.stop->load(); };
+  // Records what was completed so that --resume redoes only the rest. The manifest may be
+  // unwritable too (a full disk); the previous one then stands, which is still consistent.
+  auto mark_failed = [&](const std::exception& e) {
+    manifest.status = JobStatus::kFailed;
+    manifest.message = e.what();
+    manifest.sort_files();
+    try {
+      write_manifest(manifest_path, manifest);
+    } catch (const std::exception&) {
+    }
+  };
 
   stats.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
@@ -244,15 +255,15 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
           ~PublishAtEnd() { detail::TsanHandoff::task_publishes(); }
         } publish_at_end;
         if (stop_requested()) return;
-        if (t >= todo.size()) {
-          const int index = refeed[t - todo.size()];
+        if (t >= pending.size()) {
+          const int index = refeed[t - pending.size()];
           const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
                                                         : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
           for (const auto& w : writers)
             if (w->needs_whole_stack()) w->write_layer(index, labels);
           return;
         }
-        const int index = todo[t];
+        const int index = pending[t];
         std::vector<std::string> written;
         if (index < range.count) {
           LayerResult r = slicer.slice_layer(range.first + index);
@@ -270,26 +281,18 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
           record(index, std::move(written), std::nullopt);
         }
     };
-    auto slice_all = [&] { tbb::parallel_for(std::size_t{0}, todo.size() + refeed.size(), slice_one); };
+    auto slice_all = [&] { tbb::parallel_for(std::size_t{0}, pending.size() + refeed.size(), slice_one); };
     detail::TsanHandoff::caller_publishes();
     arena.execute(slice_all);
     detail::TsanHandoff::caller_receives();
   } catch (const std::exception& e) {
-    // Record what was completed so that --resume redoes only the rest. The manifest may be
-    // unwritable too (a full disk); the previous one then stands, which is still consistent.
-    manifest.status = JobStatus::kFailed;
-    manifest.message = e.what();
-    manifest.sort_files();
-    try {
-      write_manifest(manifest_path, manifest);
-    } catch (const std::exception&) {
-    }
+    mark_failed(e);
     throw;
   }
   manifest.sort_files();
   std::sort(stats.files.begin(), stats.files.end());
   std::sort(stats.layers.begin(), stats.layers.end(), [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
-  stats.interrupted = stop_requested() && (done < static_cast<int>(todo.size()) || any_stack);
+  stats.interrupted = stop_requested() && (done < static_cast<int>(pending.size()) || any_stack);
   if (!stats.interrupted) {
     // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
     try {
@@ -304,13 +307,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
         stats.files.push_back(name);
       }
     } catch (const std::exception& e) {
-      manifest.status = JobStatus::kFailed;
-      manifest.message = e.what();
-      manifest.sort_files();
-      try {
-        write_manifest(manifest_path, manifest);
-      } catch (const std::exception&) {
-      }
+      mark_failed(e);
       throw;
     }
     manifest.sort_files();
@@ -318,7 +315,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   }
   if (stats.interrupted) {
     manifest.status = JobStatus::kInterrupted;
-    manifest.message = fmt::format("stopped after {} of {} layers; continue with --resume", done, todo.size());
+    manifest.message = fmt::format("stopped after {} of {} layers; continue with --resume", done, pending.size());
   } else {
     manifest.status = JobStatus::kComplete;
   }

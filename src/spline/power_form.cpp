@@ -142,16 +142,29 @@ struct Powers {
   }
 };
 
+// The piece holding (u, v, w), the local coordinates in it and the scale of d/d(local) to
+// d/d(parameter) per direction.
+struct PieceAt {
+  const V4* coefficients;
+  double local[3];
+  std::array<double, 3> inv_width;
+  PieceAt(const PowerForm& f, Vec3 uvw) noexcept {
+    int p[3];
+    for (int d = 0; d < 3; ++d) {
+      p[d] = f.axis[d].locate(uvw[d], local[d]);
+      inv_width[static_cast<std::size_t>(d)] = f.axis[d].inv_width[static_cast<std::size_t>(p[d])];
+    }
+    coefficients = f.piece(p[0], p[1], p[2]);
+  }
+};
+
 template <int KU, int KV, int KW>
 Vec3 power_evaluate(const PowerForm& f, Vec3 uvw) noexcept {
-  double s, t, r;
-  const int pu = f.axis[0].locate(uvw.x, s);
-  const int pv = f.axis[1].locate(uvw.y, t);
-  const int pw = f.axis[2].locate(uvw.z, r);
-  const V4* c = f.piece(pu, pv, pw);
-  const Powers<KU> ps(s);
-  const Powers<KV> pt(t);
-  const Powers<KW> pr(r);
+  const PieceAt at(f, uvw);
+  const V4* c = at.coefficients;
+  const Powers<KU> ps(at.local[0]);
+  const Powers<KV> pt(at.local[1]);
+  const Powers<KW> pr(at.local[2]);
   V4 acc{};
   for (int k = 0; k < KW; ++k) {
     V4 plane{};
@@ -169,14 +182,11 @@ Vec3 power_evaluate(const PowerForm& f, Vec3 uvw) noexcept {
 
 template <int KU, int KV, int KW>
 void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& jac) noexcept {
-  double s, t, r;
-  const int pu = f.axis[0].locate(uvw.x, s);
-  const int pv = f.axis[1].locate(uvw.y, t);
-  const int pw = f.axis[2].locate(uvw.z, r);
-  const V4* c = f.piece(pu, pv, pw);
-  const Powers<KU> ps(s);
-  const Powers<KV> pt(t);
-  const Powers<KW> pr(r);
+  const PieceAt at(f, uvw);
+  const V4* c = at.coefficients;
+  const Powers<KU> ps(at.local[0]);
+  const Powers<KV> pt(at.local[1]);
+  const Powers<KW> pr(at.local[2]);
   V4 S{}, Su{}, Sv{}, Sw{};
   for (int k = 0; k < KW; ++k) {
     V4 P{}, Pu{}, Pv{};
@@ -194,21 +204,8 @@ void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& ja
     Sv += pr.p[k] * Pv;
     Sw += pr.d[k] * P;
   }
-  // Back from local coordinates to parameters (chain rule), then the quotient rule on the
-  // homogeneous coordinates: x = A / W, dx = (dA - x dW) / W.
-  const double inv = 1.0 / S[3];
-  value = {S[0] * inv, S[1] * inv, S[2] * inv};
-  const double scale[3] = {f.axis[0].inv_width[static_cast<std::size_t>(pu)] * inv,
-                           f.axis[1].inv_width[static_cast<std::size_t>(pv)] * inv,
-                           f.axis[2].inv_width[static_cast<std::size_t>(pw)] * inv};
-  const V4* partial[3] = {&Su, &Sv, &Sw};
-  for (int col = 0; col < 3; ++col) {
-    const V4& p = *partial[col];
-    const auto cc = static_cast<std::size_t>(col);
-    jac.m[0][cc] = (p[0] - value.x * p[3]) * scale[col];
-    jac.m[1][cc] = (p[1] - value.y * p[3]) * scale[col];
-    jac.m[2][cc] = (p[2] - value.z * p[3]) * scale[col];
-  }
+  // Back from local coordinates to parameters (chain rule), then the quotient rule.
+  homogeneous_to_euclidean(S, Su, Sv, Sw, at.inv_width, value, jac);
 }
 
 constexpr int kFirst = 2, kCount = kMaxPowerOrder - kFirst + 1;

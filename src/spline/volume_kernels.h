@@ -89,6 +89,23 @@ inline V4 load(const H& p) noexcept {
   return v;
 }
 
+// The Euclidean value and Jacobian from the homogeneous value S and its partials, each
+// partial first scaled by `scale` (the chain rule of a local coordinate): the quotient rule
+// x = A / W, dx = (dA - x dW) / W.
+inline void homogeneous_to_euclidean(const V4& S, const V4& Su, const V4& Sv, const V4& Sw,
+                                     const std::array<double, 3>& scale, Vec3& value, Mat3& jac) noexcept {
+  const double inv = 1.0 / S[3];
+  value = {S[0] * inv, S[1] * inv, S[2] * inv};
+  const V4* partial[3] = {&Su, &Sv, &Sw};
+  for (std::size_t col = 0; col < 3; ++col) {
+    const V4& p = *partial[col];
+    const double k = scale[col] * inv;
+    jac.m[0][col] = (p[0] - value.x * p[3]) * k;
+    jac.m[1][col] = (p[1] - value.y * p[3]) * k;
+    jac.m[2][col] = (p[2] - value.z * p[3]) * k;
+  }
+}
+
 template <int KU, int KV, int KW>
 Vec3 evaluate_kernel(const VolumeData& d, Vec3 uvw) noexcept {
   Basis1<KU> bu;
@@ -145,16 +162,7 @@ void evaluate_jacobian_kernel(const VolumeData& d, Vec3 uvw, Vec3& value, Mat3& 
     Sv += bw.N[c] * Pv;
     Sw += bw.dN[c] * P;
   }
-  // Quotient rule on homogeneous coordinates: x = A / W, dx = (dA - x dW) / W.
-  const double inv = 1.0 / S[3];
-  value = {S[0] * inv, S[1] * inv, S[2] * inv};
-  const V4* partial[3] = {&Su, &Sv, &Sw};
-  for (int col = 0; col < 3; ++col) {
-    const V4& p = *partial[col];
-    jac.m[0][static_cast<std::size_t>(col)] = (p[0] - value.x * p[3]) * inv;
-    jac.m[1][static_cast<std::size_t>(col)] = (p[1] - value.y * p[3]) * inv;
-    jac.m[2][static_cast<std::size_t>(col)] = (p[2] - value.z * p[3]) * inv;
-  }
+  homogeneous_to_euclidean(S, Su, Sv, Sw, {1.0, 1.0, 1.0}, value, jac);
 }
 
 using EvaluateFn = Vec3 (*)(const VolumeData&, Vec3) noexcept;
