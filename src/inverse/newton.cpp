@@ -25,6 +25,22 @@ double singular_threshold(const Mat3& J) noexcept {
 }
 }  // namespace
 
+std::optional<double> certified_step_residual(const Volume& volume, Vec3 p, const Mat3& J, Vec3 r0, Vec3 d) noexcept {
+  const std::optional<Mat3>& M = volume.second_derivative_bounds();
+  if (!M) return std::nullopt;
+  // V(t + d) - x = (V(t) + J d - x) + R with |R| <= 0.5 sum_ij |d_i| |d_j| M(i, j) on the
+  // segment from t to t + d (inside the box, which is convex). The first term is what the
+  // linear solve left over; the last adds the rounding of V(t) and J, a few hundred ulps of
+  // the coordinates' magnitude, far below any tolerance the slicer uses.
+  const Vec3 a{std::abs(d.x), std::abs(d.y), std::abs(d.z)};
+  const double taylor = 0.5 * dot(a, (*M) * a);
+  const double linear = norm(J * d - r0);
+  const double rounding = 1e-13 * (max_abs(p) + max_abs(J * a));
+  const double bound = linear + taylor + rounding;
+  if (!std::isfinite(bound)) return std::nullopt;
+  return bound;
+}
+
 // Newton's step d solves J d = x - V. A step that would leave the box is cut back to the box
 // (projected Newton); if the iterate then cannot move, x lies beyond that face. A step that
 // increases the residual is halved (backtracking), which is checked lazily with the next
@@ -104,6 +120,13 @@ InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 se
   if (solve3(jacobian, r0, d, singular_threshold(jacobian))) {
     const Vec3 target = u0 + d;
     if (box.contains(target)) {
+      if (const std::optional<double> bound = certified_step_residual(volume, p, jacobian, r0, d);
+          bound && *bound <= params.residual_tolerance_model) {
+        r.uvw = target;
+        r.residual = *bound;
+        r.status = InverseStatus::kConverged;
+        return r;
+      }
       const Vec3 r1 = x - volume.evaluate(target);
       r.iterations = 2;
       r.uvw = target;

@@ -6,6 +6,7 @@
 
 #include "trivox/error.h"
 #include "trivox/spline/basis.h"
+#include "derivative_bounds.h"
 #include "power_form.h"
 #include "volume_kernels.h"
 
@@ -31,6 +32,7 @@ Volume::Volume(TensorSpline spline, const VolumeOptions& options) : spline_(std:
         hpoints_[n++] = {w * p[0], w * p[1], w * p[2], w};
       }
   bounds_ = spline_.control_box();
+  second_bounds_ = detail::second_derivative_bounds(spline_);
   const auto k = orders();
   evaluate_fn_ = detail::select_evaluate(k[0], k[1], k[2]);
   evaluate_jacobian_fn_ = detail::select_evaluate_jacobian(k[0], k[1], k[2]);

@@ -38,8 +38,10 @@ std::string_view to_string(InverseStatus s) noexcept;
 struct InverseResult {
   InverseStatus status = InverseStatus::kNoConvergence;
   Vec3 uvw;               // last iterate (the solution when converged)
-  double residual = 0.0;  // |V(uvw) - x| in model units
-  int iterations = 0;     // evaluations of V and J
+  // |V(uvw) - x| in model units; for invert_from_neighbour's certified step (see there) an
+  // upper bound of it.
+  double residual = 0.0;
+  int iterations = 0;  // evaluations of V (with or without J)
 };
 
 InverseResult invert(const Volume& volume, Vec3 x, Vec3 hint, const InverseParams& params = {});
@@ -53,9 +55,12 @@ struct NeighbourSolution {
 };
 
 // The tracing fast path: predicts u = n.uvw + J^-1 (x - n.x), takes one Newton step from the
-// prediction and verifies the residual with a value-only evaluation (so most points cost one
-// evaluation with Jacobian and one without); falls back to invert() from there otherwise.
-// A converged result always meets the residual tolerance. When `jacobian` is given it
+// prediction and verifies the residual. For a polynomial volume the step is certified
+// without evaluating V again when Taylor's remainder, bounded by the volume's
+// second-derivative bounds, keeps |V(u) - x| within the tolerance (most points then cost one
+// evaluation with Jacobian); otherwise a value-only evaluation checks it. Falls back to
+// invert() from there when neither succeeds. A converged result always meets the residual
+// tolerance (its `residual` is then the certified bound). When `jacobian` is given it
 // receives V's Jacobian near the solution, ready to seed the next point.
 InverseResult invert_from_neighbour(const Volume& volume, Vec3 x, const NeighbourSolution& n,
                                     const InverseParams& params = {}, Mat3* jacobian = nullptr);

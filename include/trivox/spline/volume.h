@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "trivox/math.h"
@@ -64,10 +65,18 @@ class Volume {
   // whose basis support meets `box` (convex hull property; weights are positive).
   Box3 bounds(const ParamBox& box) const noexcept;
 
+  // For a polynomial volume, M with M(i, j) >= |d^2 V / dt_i dt_j| (Euclidean norm) anywhere
+  // in the domain, from the control nets of the second derivatives; empty for a rational
+  // one. Taylor's theorem then bounds |V(t + d) - V(t) - J(t) d| by
+  // 0.5 * sum_ij |d_i| |d_j| M(i, j), which certifies a Newton step without evaluating V at
+  // its end (the tracing fast path of the inverse map).
+  const std::optional<Mat3>& second_derivative_bounds() const noexcept { return second_bounds_; }
+
  private:
   TensorSpline spline_;
   ParamBox domain_;
   Box3 bounds_;
+  std::optional<Mat3> second_bounds_;
   std::array<int, 3> num_basis_{};
   // Homogeneous control points, basis-index layout (periodic directions unwrapped), u fastest.
   std::vector<std::array<double, 4>> hpoints_;
