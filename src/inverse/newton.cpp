@@ -89,6 +89,17 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
       r.status = InverseStatus::kOutside;
       return r;
     }
+    // A full step whose end Taylor's remainder already places within the tolerance needs no
+    // further evaluation (a clamped step is not the Newton step the bound is about).
+    if (!pushed_out && next == target) {
+      if (const std::optional<double> bound = certified_step_residual(volume, p, J, diff, d);
+          bound && *bound <= params.residual_tolerance_model) {
+        r.uvw = next;
+        r.residual = *bound;
+        r.status = InverseStatus::kConverged;
+        return r;
+      }
+    }
     prev_uvw = uvw;
     prev_step = next - uvw;
     prev_res = res;

@@ -2,7 +2,9 @@
 //
 // Two solvers with explicit outcomes:
 //  * invert(): damped Newton from a hint (typically a neighbouring pixel's solution), kept
-//    inside the parameter box. Fast, local, allocation-free.
+//    inside the parameter box. Fast, local, allocation-free. On a polynomial volume the
+//    last step is certified by Taylor's remainder (Volume::second_derivative_bounds) instead
+//    of a final evaluation whenever that bound already meets the tolerance.
 //  * GlobalSolver::solve(): finds every preimage of x in the whole domain or proves there is
 //    none, by Bezier subdivision with bounding-box exclusion, an injectivity test that proves
 //    a box holds at most one preimage, and Newton in the surviving boxes.
@@ -38,8 +40,8 @@ std::string_view to_string(InverseStatus s) noexcept;
 struct InverseResult {
   InverseStatus status = InverseStatus::kNoConvergence;
   Vec3 uvw;               // last iterate (the solution when converged)
-  // |V(uvw) - x| in model units; for invert_from_neighbour's certified step (see there) an
-  // upper bound of it.
+  // |V(uvw) - x| in model units, or an upper bound of it when the last Newton step was
+  // certified rather than evaluated (polynomial volumes: see invert_from_neighbour).
   double residual = 0.0;
   int iterations = 0;  // evaluations of V (with or without J)
 };
