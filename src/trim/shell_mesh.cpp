@@ -46,7 +46,10 @@ double deviation(const TensorSpline& s, int n) {
       const auto k = static_cast<std::size_t>(i);
       const Vec3 bilinear = 0.25 * (prev[k - 1] + prev[k] + cur[k - 1] + cur[k]);
       const Vec3 centre = eval(s, 0.5 * (sample(a0, a1, i - 1, n) + sample(a0, a1, i, n)), 0.5 * (tb_prev + tb));
-      worst = std::max(worst, norm(centre - bilinear));
+      // The triangles split the cell along its (k-1, j-1)-(k, j) diagonal: a twisted cell
+      // can match its bilinear patch at the centre and miss the triangles, so the diagonal's
+      // midpoint is checked too.
+      worst = std::max({worst, norm(centre - bilinear), norm(centre - 0.5 * (prev[k - 1] + cur[k]))});
     }
     std::swap(prev, cur);
   }

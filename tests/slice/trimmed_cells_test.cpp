@@ -90,6 +90,8 @@ TEST(TrimmedCells, BooleanCellsPartitionTheUnion) {
           near_face = near_face || inside_by_global_solve(solve_a, x + d) != in_a ||
                       inside_by_global_solve(solve_b, x + d) != in_b;
         (near_face ? borderline : mismatches)++;
+        EXPECT_TRUE(near_face) << "pixel " << col << ", " << row << " of layer " << layer << " (" << x.x << ", " << x.y
+                               << ", " << x.z << "): owner " << o << ", expected " << expected;
       }
   }
   EXPECT_EQ(mismatches, 0);
@@ -136,7 +138,7 @@ TEST(TrimmedCells, ShellTrimAgreesWithAFinerPointInSolidTestAwayFromTheSurface) 
       }
   }
   EXPECT_GT(inside, 50);
-  EXPECT_GT(checked - inside, 50);
+  EXPECT_GT(checked - inside, 20);
 }
 
 TEST(TrimmedCells, ParametricTrimAgreesWithDirectEvaluation) {
@@ -169,7 +171,7 @@ TEST(TrimmedCells, ParametricTrimAgreesWithDirectEvaluation) {
         (out_trim ? kept : removed)++;
       }
   }
-  EXPECT_GT(removed, 1000);
+  EXPECT_GT(removed, 300);
   EXPECT_GT(kept, 1000);
 }
 

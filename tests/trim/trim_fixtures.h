@@ -26,17 +26,18 @@ inline TensorSpline bilinear_surface(Vec3 p00, Vec3 p10, Vec3 p01, Vec3 p11) {
                       {p00.x, p00.y, p00.z, p10.x, p10.y, p10.z, p01.x, p01.y, p01.z, p11.x, p11.y, p11.z});
 }
 
-// The six faces of a hexahedron as bilinear surfaces (optionally leaving one out).
+// The six faces of a hexahedron as bilinear surfaces, normals (d/du x d/dv) outward for a
+// right-handed hexahedron (optionally leaving one out).
 inline TrimShell hexahedron_shell(const Hexahedron& c, int leave_out = -1) {
   TrimShell s;
   s.name = "hexahedron";
   auto at = [&](int i, int j, int k) { return c[static_cast<std::size_t>(i + 2 * j + 4 * k)]; };
   const std::array<TensorSpline, 6> faces = {
-      bilinear_surface(at(0, 0, 0), at(0, 1, 0), at(0, 0, 1), at(0, 1, 1)),
+      bilinear_surface(at(0, 0, 0), at(0, 0, 1), at(0, 1, 0), at(0, 1, 1)),
       bilinear_surface(at(1, 0, 0), at(1, 1, 0), at(1, 0, 1), at(1, 1, 1)),
       bilinear_surface(at(0, 0, 0), at(1, 0, 0), at(0, 0, 1), at(1, 0, 1)),
-      bilinear_surface(at(0, 1, 0), at(1, 1, 0), at(0, 1, 1), at(1, 1, 1)),
-      bilinear_surface(at(0, 0, 0), at(1, 0, 0), at(0, 1, 0), at(1, 1, 0)),
+      bilinear_surface(at(0, 1, 0), at(0, 1, 1), at(1, 1, 0), at(1, 1, 1)),
+      bilinear_surface(at(0, 0, 0), at(0, 1, 0), at(1, 0, 0), at(1, 1, 0)),
       bilinear_surface(at(0, 0, 1), at(1, 0, 1), at(0, 1, 1), at(1, 1, 1))};
   for (int f = 0; f < 6; ++f)
     if (f != leave_out) s.surfaces.push_back(faces[static_cast<std::size_t>(f)]);
@@ -54,8 +55,8 @@ inline Hexahedron axis_box(Vec3 lo, Vec3 hi) {
 
 // An independent triangle soup of a shell: every surface sampled on its own n x n grid, no
 // welding. Its generalized winding number (the sum of the solid angles of the triangles,
-// Van Oosterom and Strackee 1983, over 4 pi) is about +-1 inside and 0 outside, whatever the
-// orientation of the faces, and tolerates the hairline gaps of an unwelded soup.
+// Van Oosterom and Strackee 1983, over 4 pi) is about +-1 inside and 0 outside for consistently
+// oriented faces, and tolerates the hairline gaps of an unwelded soup.
 struct TriangleSoup {
   std::vector<std::array<Vec3, 3>> triangles;
 

@@ -32,7 +32,8 @@ struct ShellSegment {
 
 class ShellMesh {
  public:
-  // Samples every surface until each grid cell deviates from its bilinear patch by at most
+  // Samples every surface until each grid cell deviates from its bilinear patch and from its
+  // two triangles by at most
   // `tolerance` at its centre (in the shell's units: mm for a model-space shell), or the
   // sample count reaches `max_samples` per direction. Throws ModelError when a surface is
   // not a surface in space (two parameters, three coordinates).
