@@ -94,8 +94,18 @@ Volume parse_constructed_geometry(const JsonView& node, SceneContext& ctx);
 // A cell's "geometry": a model file and patch selection, an inline spline, or a constructor.
 std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx);
 
-// An optional "placement" applied to a volume's control points.
+// An optional "placement" applied to a volume's control points (or a surface's, with three
+// coordinates per point).
 Volume parse_and_apply_placement(const JsonView& node, const Volume& volume);
+TensorSpline parse_and_apply_placement(const JsonView& node, const TensorSpline& spline);
+
+// The scene's "volumes": named trivariates for cells and trims (trim_parse.cpp).
+std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx);
+// The index of the scene volume a string field names; fails listing the names otherwise.
+int volume_ref(const JsonView& name, const std::vector<SceneVolume>& volumes);
+// A cell's "trim" clauses. `own_volume` is the index of the cell's scene volume (-1: none),
+// which a clause may not name.
+Trim parse_trim(const JsonView& node, SceneContext& ctx, const std::vector<SceneVolume>& volumes, int own_volume);
 
 // A trivariate spline field with `point_dim` components: {"file", "patch"} or inline
 // {"orders", "knots", "points", "weights"}. kAnyPointDim accepts any number of components

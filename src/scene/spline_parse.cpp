@@ -277,17 +277,21 @@ Affine parse_placement(const JsonView& node) {
 
 }  // namespace
 
-Volume parse_and_apply_placement(const JsonView& node, const Volume& volume) {
+TensorSpline parse_and_apply_placement(const JsonView& node, const TensorSpline& spline) {
   const Affine f = parse_placement(node);
   // Affine maps commute with the (rational) B-spline combination of Euclidean control
-  // points, so transforming the points transforms the volume exactly (The NURBS Book, 4.4).
-  TensorSpline moved = volume.spline().transformed([&f](std::span<double> p) {
+  // points, so transforming the points transforms the volume or surface exactly (The NURBS
+  // Book, 4.4).
+  return spline.transformed([&f](std::span<double> p) {
     const Vec3 q = f.a * Vec3{p[0], p[1], p[2]} + f.t;
     p[0] = q.x;
     p[1] = q.y;
     p[2] = q.z;
   });
-  return Volume(std::move(moved));
+}
+
+Volume parse_and_apply_placement(const JsonView& node, const Volume& volume) {
+  return Volume(parse_and_apply_placement(node, volume.spline()));
 }
 
 }  // namespace trivox::detail

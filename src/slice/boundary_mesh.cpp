@@ -33,7 +33,10 @@ double face_deviation(const Volume& v, int fixed, double at, int a, const std::v
     for (std::size_t i = 1; i < ta.size(); ++i) {
       const Vec3 bilinear = 0.25 * (prev[i - 1] + prev[i] + cur[i - 1] + cur[i]);
       const Vec3 centre = eval(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
-      worst = std::max(worst, norm(centre - bilinear));
+      // The cell is drawn as two triangles split along its (i-1, j-1)-(i, j) diagonal: a
+      // twisted cell can match its bilinear patch at the centre and still miss the
+      // triangles by far, so the diagonal's midpoint is checked too.
+      worst = std::max({worst, norm(centre - bilinear), norm(centre - 0.5 * (prev[i - 1] + cur[i]))});
     }
     std::swap(prev, cur);
   }

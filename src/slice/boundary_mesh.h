@@ -21,7 +21,8 @@ struct Segment2 {
 class BoundaryMesh {
  public:
   // Refines the sampling until every grid cell of every face deviates from its bilinear
-  // patch by at most `tolerance_mm` at its centre (or a direction reaches 4096 samples).
+  // patch and from its two triangles by at most `tolerance_mm` at its centre (or a direction
+  // reaches 4096 samples).
   BoundaryMesh(const Volume& volume, double tolerance_mm);
 
   const Box3& bounds() const noexcept { return bounds_; }

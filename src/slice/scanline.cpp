@@ -76,4 +76,23 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
   }
 }
 
+void shell_row_crossings(const std::vector<ShellSegment>& segments, const SliceLayout& L,
+                         std::vector<std::vector<double>>& rows) {
+  rows.resize(static_cast<std::size_t>(L.height_px));
+  for (auto& r : rows) r.clear();
+  for (const ShellSegment& s : segments) {
+    const auto [r0, r1] = rows_between(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    double x;
+    for (int r = r0; r <= r1; ++r)
+      if (crosses_row(s, L.y_of_row(r), x)) rows[static_cast<std::size_t>(r)].push_back(x);
+  }
+  for (auto& r : rows) std::sort(r.begin(), r.end());
+}
+
+bool inside_crossings(const std::vector<double>& xs, double x) noexcept {
+  // Crossings beyond x, as ShellMesh::contains counts them.
+  const auto beyond = xs.end() - std::upper_bound(xs.begin(), xs.end(), x);
+  return beyond % 2 == 1;
+}
+
 }  // namespace trivox::detail

@@ -6,6 +6,7 @@
 
 #include "boundary_mesh.h"
 #include "trivox/slice/layout.h"
+#include "trivox/trim/shell_mesh.h"
 
 namespace trivox::detail {
 
@@ -19,5 +20,14 @@ using RowSpans = std::vector<std::vector<std::pair<int, int>>>;
 // open outline) fall back to the whole span between their first and last crossing.
 void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
                      RowSpans& rows);
+
+// The crossings of every row's centre line with a cut shell (trivox/trim/shell_mesh.h), by
+// the rule of ShellMesh::contains, sorted per row: pixel (col, row) is inside the shell when
+// an odd number of its row's crossings lie beyond x_of_col(col).
+void shell_row_crossings(const std::vector<ShellSegment>& segments, const SliceLayout& layout,
+                         std::vector<std::vector<double>>& rows);
+
+// Whether abscissa x is inside by the even-odd rule over a row's sorted crossings.
+bool inside_crossings(const std::vector<double>& xs, double x) noexcept;
 
 }  // namespace trivox::detail

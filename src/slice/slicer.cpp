@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -10,16 +12,47 @@
 #include "scanline.h"
 #include "trivox/error.h"
 #include "trivox/raster/dither.h"
+#include "trivox/trim/shell_mesh.h"
 
 namespace trivox {
 
-struct Slicer::CellData {
-  const Cell* cell;
+// One trivariate, inverted once per pixel and layer however many cells use it.
+struct Slicer::Trivariate {
+  const Volume* volume;
   detail::BoundaryMesh mesh;
   GlobalSolver solver;
+  // Traced for the whole layer before the cells (it trims some cell), rather than streamed
+  // row by row for the one cell it parametrizes.
+  bool traced_first = false;
 
-  CellData(const Cell& c, double tolerance_mm) : cell(&c), mesh(c.volume, tolerance_mm), solver(c.volume) {}
+  Trivariate(const Volume& v, double tolerance_mm) : volume(&v), mesh(v, tolerance_mm), solver(v) {}
 };
+
+struct Slicer::CellData {
+  struct Clause {
+    TrimKind kind;
+    TrimSide side;
+    int trivariate = -1;                      // kVolume
+    std::shared_ptr<const ShellMesh> mesh;    // kShell (model space), kParametric (u, v, w)
+    int shell_slot = -1;                      // kShell: index of its cut in the layer's cuts
+  };
+  const Cell* cell;
+  int trivariate;
+  std::vector<Clause> clauses;
+  bool model_space_clauses = false;  // any kVolume or kShell clause
+  bool parametric_clauses = false;
+};
+
+namespace {
+
+// The layer's state of the trivariates traced first and of the cut shells.
+struct LayerTrims {
+  std::vector<std::vector<detail::TracedRow>> rows;  // per trivariate (empty unless traced first)
+  std::vector<std::vector<std::uint8_t>> inside;     // per trivariate, width x height
+  std::vector<std::vector<std::vector<double>>> shell_rows;  // per cut shell: crossings per row
+};
+
+}  // namespace
 
 Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(std::move(params)) {
   params_.validate();
@@ -36,11 +69,63 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   } catch (const Error& e) {
     throw Error(fmt::format("{}: {}", scene.source, e.what()));
   }
-  Box3 bounds;
+  // Named volumes get a trivariate when some cell uses them; the others one per cell.
+  std::vector<int> of_volume(scene.volumes.size(), -1);
+  auto volume_trivariate = [&](int v) {
+    auto& t = of_volume.at(static_cast<std::size_t>(v));
+    if (t < 0) {
+      t = static_cast<int>(trivariates_.size());
+      trivariates_.push_back(std::make_unique<Trivariate>(scene.volumes[static_cast<std::size_t>(v)].volume,
+                                                          outline_tolerance_mm_));
+    }
+    return t;
+  };
+  // Shells shared by several clauses are tessellated once. Model-space shells are decided by
+  // their tessellation alone, so they get half the outline tolerance (an eighth of a pixel
+  // by default); parametric ones 1e-4 of the cell's parameter box.
+  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells;
+  int shell_slots = 0;
   for (const Cell& c : scene.cells) {
-    cells_.push_back(std::make_unique<CellData>(c, outline_tolerance_mm_));
-    bounds.expand(cells_.back()->mesh.bounds());
+    auto cd = std::make_unique<CellData>();
+    cd->cell = &c;
+    if (c.scene_volume >= 0) {
+      cd->trivariate = volume_trivariate(c.scene_volume);
+    } else {
+      cd->trivariate = static_cast<int>(trivariates_.size());
+      trivariates_.push_back(std::make_unique<Trivariate>(c.volume, outline_tolerance_mm_));
+    }
+    for (const TrimClause& clause : c.trim.clauses) {
+      CellData::Clause k{clause.kind, clause.side, -1, nullptr, -1};
+      if (clause.kind == TrimKind::kVolume) {
+        k.trivariate = volume_trivariate(clause.volume);
+        trivariates_[static_cast<std::size_t>(k.trivariate)]->traced_first = true;
+        cd->model_space_clauses = true;
+      } else {
+        const bool param = clause.kind == TrimKind::kParametric;
+        auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
+        if (!mesh) {
+          const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo)
+                                         : 0.5 * outline_tolerance_mm_;
+          auto m = std::make_shared<ShellMesh>(*clause.shell, tolerance);
+          if (m->open_edges() > 0)
+            throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene.source, c.name,
+                                    clause.shell->name, m->open_edges()));
+          mesh = std::move(m);
+        }
+        k.mesh = mesh;
+        if (param) {
+          cd->parametric_clauses = true;
+        } else {
+          k.shell_slot = shell_slots++;
+          cd->model_space_clauses = true;
+        }
+      }
+      cd->clauses.push_back(std::move(k));
+    }
+    cells_.push_back(std::move(cd));
   }
+  Box3 bounds;
+  for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->mesh.bounds());
   // The meshes lie within the tolerance of the true boundary.
   const Vec3 grow{outline_tolerance_mm_, outline_tolerance_mm_, outline_tolerance_mm_};
   if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
@@ -49,10 +134,13 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
 
 Slicer::~Slicer() = default;
 
-LayerResult Slicer::slice_layer(int layer) const {
+LayerResult Slicer::slice_layer(int layer) const { return slice_layer(layer, nullptr); }
+
+LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   const auto start = std::chrono::steady_clock::now();
   const SliceLayout& L = layout_;
   const int m = scene_.num_materials();
+  const auto width = static_cast<std::size_t>(L.width_px);
   LayerResult result;
   LayerStats& st = result.stats;
   st.layer = layer;
@@ -61,14 +149,14 @@ LayerResult Slicer::slice_layer(int layer) const {
 
   MaterialGrid grid(L.width_px, L.height_px, m);
   InsideMask inside(L.width_px, L.height_px, 0);
+  std::vector<int> owner(static_cast<std::size_t>(st.pixels_total), -1);
+  std::vector<std::uint8_t> owner_gave_material(static_cast<std::size_t>(st.pixels_total), 0);
   std::vector<detail::Segment2> segments;
   detail::RowSpans spans;
-  detail::TracedRow row_out;
+  detail::TracedRow row_out, kept;
   std::vector<float> fractions;
   detail::TraceCounters counters;
 
-  // Cells in scene order; a later cell with non-empty material overwrites an earlier one
-  // (the paper's rule for the pixels on shared boundaries).
   using Clock = std::chrono::steady_clock;
   auto lap = [](Clock::time_point& t) {
     const auto now = Clock::now();
@@ -77,36 +165,148 @@ LayerResult Slicer::slice_layer(int layer) const {
     return d;
   };
   auto t = Clock::now();
-  for (const auto& cd : cells_) {
-    cd->mesh.cut(st.z_mm, segments);
+
+  // Trimmed cells: the trivariates that trim some cell are traced once for the whole layer,
+  // so every Boolean clause and every cell they parametrize read the same inside set (the
+  // cells "A only", "B only", "A and B" then partition the union by construction), and the
+  // shells are cut once.
+  LayerTrims trims;
+  trims.rows.resize(trivariates_.size());
+  trims.inside.resize(trivariates_.size());
+  for (std::size_t k = 0; k < trivariates_.size(); ++k) {
+    const Trivariate& tv = *trivariates_[k];
+    if (!tv.traced_first) continue;
+    auto& rows = trims.rows[k];
+    auto& in = trims.inside[k];
+    rows.resize(static_cast<std::size_t>(L.height_px));
+    in.assign(static_cast<std::size_t>(st.pixels_total), 0);
+    tv.mesh.cut(st.z_mm, segments);
     if (segments.empty()) continue;
     detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
-    detail::CellTracer tracer(cd->cell->volume, cd->solver, params_, L.width_px);
+    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
     tracer.begin_layer(st.z_mm);
     for (int r = 0; r < L.height_px; ++r) {
       const auto& row_spans = spans[static_cast<std::size_t>(r)];
       if (row_spans.empty()) continue;
-      tracer.trace_row(L, r, row_spans, row_out);
+      auto& row = rows[static_cast<std::size_t>(r)];
+      tracer.trace_row(L, r, row_spans, row);
+      for (int col : row.cols) in[static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col)] = 1;
+    }
+    counters += tracer.counters();
+  }
+  std::vector<ShellSegment> shell_segments;
+  for (const auto& cd : cells_)
+    for (const auto& k : cd->clauses)
+      if (k.shell_slot >= 0) {
+        k.mesh->cut(st.z_mm, shell_segments);
+        if (trims.shell_rows.size() <= static_cast<std::size_t>(k.shell_slot))
+          trims.shell_rows.resize(static_cast<std::size_t>(k.shell_slot) + 1);
+        detail::shell_row_crossings(shell_segments, L, trims.shell_rows[static_cast<std::size_t>(k.shell_slot)]);
+      }
+  // Whether pixel (col, row) satisfies a cell's model-space clauses (volumes and shells).
+  auto model_space_ok = [&](const CellData& cd, int col, int row) {
+    for (const auto& k : cd.clauses) {
+      bool in;
+      if (k.kind == TrimKind::kVolume)
+        in = trims.inside[static_cast<std::size_t>(k.trivariate)][static_cast<std::size_t>(row) * width +
+                                                                  static_cast<std::size_t>(col)] != 0;
+      else if (k.kind == TrimKind::kShell)
+        in = detail::inside_crossings(trims.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)],
+                                      L.x_of_col(col));
+      else
+        continue;
+      if (in != (k.side == TrimSide::kInside)) return false;
+    }
+    return true;
+  };
+  auto parametric_ok = [](const CellData& cd, Vec3 uvw) {
+    for (const auto& k : cd.clauses)
+      if (k.kind == TrimKind::kParametric && k.mesh->contains(uvw) != (k.side == TrimSide::kInside)) return false;
+    return true;
+  };
+  st.seconds_inverse += lap(t);
+
+  // Cells in scene order; a later cell with non-empty material overwrites an earlier one
+  // (the paper's rule for the pixels on shared boundaries), and owns the pixel.
+  for (std::size_t ci = 0; ci < cells_.size(); ++ci) {
+    const CellData& cd = *cells_[ci];
+    const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
+    const bool trimmed = !cd.clauses.empty();
+    const bool traced_first = tv.traced_first;
+    std::optional<detail::CellTracer> tracer;
+    if (!traced_first) {
+      tv.mesh.cut(st.z_mm, segments);
+      if (segments.empty()) continue;
+      detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
+      if (cd.model_space_clauses) {
+        // Only pixels that pass the volume and shell clauses are worth inverting: those
+        // clauses are decided without this cell's inverse.
+        for (int r = 0; r < L.height_px; ++r) {
+          auto& row_spans = spans[static_cast<std::size_t>(r)];
+          std::vector<std::pair<int, int>> kept_spans;
+          for (const auto& [c0, c1] : row_spans)
+            for (int col = c0; col <= c1; ++col) {
+              if (!model_space_ok(cd, col, r)) continue;
+              if (!kept_spans.empty() && kept_spans.back().second == col - 1)
+                kept_spans.back().second = col;
+              else
+                kept_spans.push_back({col, col});
+            }
+          row_spans = std::move(kept_spans);
+        }
+      }
+      tracer.emplace(*tv.volume, tv.solver, params_, L.width_px);
+      tracer->begin_layer(st.z_mm);
+    }
+    for (int r = 0; r < L.height_px; ++r) {
+      const detail::TracedRow* row = nullptr;
+      if (traced_first) {
+        row = &trims.rows[static_cast<std::size_t>(cd.trivariate)][static_cast<std::size_t>(r)];
+      } else {
+        const auto& row_spans = spans[static_cast<std::size_t>(r)];
+        if (row_spans.empty()) continue;
+        tracer->trace_row(L, r, row_spans, row_out);
+        row = &row_out;
+      }
+      if (trimmed && (traced_first || cd.parametric_clauses)) {
+        kept.cols.clear();
+        kept.uvw.clear();
+        kept.xyz.clear();
+        for (std::size_t k = 0; k < row->cols.size(); ++k) {
+          if (traced_first && !model_space_ok(cd, row->cols[k], r)) continue;
+          if (cd.parametric_clauses && !parametric_ok(cd, row->uvw[k])) continue;
+          kept.cols.push_back(row->cols[k]);
+          kept.uvw.push_back(row->uvw[k]);
+          kept.xyz.push_back(row->xyz[k]);
+        }
+        row = &kept;
+      }
       st.seconds_inverse += lap(t);
-      const std::size_t n = row_out.cols.size();
+      const std::size_t n = row->cols.size();
       if (n == 0) continue;
       fractions.assign(n * static_cast<std::size_t>(m), 0.0f);
       // Scene cells carry their material already wrapped in the scene's fraction policy
       // (CheckedMaterial), and dithering validates what reaches it.
-      cd->cell->material->evaluate_row(row_out.uvw, row_out.xyz, fractions);
+      cd.cell->material->evaluate_row(row->uvw, row->xyz, fractions);
       for (std::size_t k = 0; k < n; ++k) {
-        const int col = row_out.cols[k];
+        const int col = row->cols[k];
+        const std::size_t at = static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col);
         inside.at(col, r) = 1;
         const float* f = fractions.data() + k * static_cast<std::size_t>(m);
         float sum = 0.0f;
         for (int j = 0; j < m; ++j) sum += f[j];
-        if (sum <= 0.0f) continue;
+        if (sum <= 0.0f) {
+          if (!owner_gave_material[at]) owner[at] = static_cast<int>(ci);
+          continue;
+        }
+        owner[at] = static_cast<int>(ci);
+        owner_gave_material[at] = 1;
         auto px = grid.pixel(col, r);
         std::copy(f, f + m, px.begin());
       }
       st.seconds_material += lap(t);
     }
-    counters += tracer.counters();
+    if (tracer) counters += tracer->counters();
   }
 
   st.seconds_inverse += lap(t);
@@ -116,11 +316,15 @@ LayerResult Slicer::slice_layer(int layer) const {
   for (std::uint8_t label : result.labels.values())
     if (label != LabelImage::kVoid) ++st.voxels_per_material[static_cast<std::size_t>(label - 1)];
   for (std::uint8_t v : inside.values()) st.pixels_inside += v;
+  st.pixels_per_cell.assign(cells_.size(), 0);
+  for (int o : owner)
+    if (o >= 0) ++st.pixels_per_cell[static_cast<std::size_t>(o)];
   st.candidates = counters.candidates;
   st.global_calls = counters.global_calls;
   st.newton_evals = counters.newton_evals;
   st.folded_pixels = counters.folded;
   st.unresolved_pixels = counters.unresolved;
+  if (owner_out) *owner_out = std::move(owner);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -2,7 +2,8 @@
 // JSON file (format: docs/SCENE.md; schema: docs/scene.schema.json; examples under
 // examples/scenes/). A scene names the printer, the materials with their colours, and the
 // cells of the object, each a trivariate volume in millimetres with its material function
-// (paper, Section 3: FGM_cell = {V, M, S}; trimming surfaces are not part of this format).
+// (paper, Section 3: FGM_cell = {V, M, S}), trimmed by other trivariates of the scene, by
+// closed shells in model space or by closed surfaces in its parametric domain (trim.h).
 #pragma once
 
 #include <array>
@@ -19,6 +20,7 @@
 #include "trivox/printer/printer_profile.h"
 #include "trivox/raster/dither.h"
 #include "trivox/spline/volume.h"
+#include "trivox/trim/trim.h"
 
 namespace trivox {
 
@@ -42,6 +44,21 @@ struct Cell {
   // CheckedMaterial): num_materials() == the scene's material count; its fractions obey the
   // rules of material_function.h or evaluation throws InputError naming this cell.
   std::shared_ptr<const MaterialFunction> material;
+  // Index into Scene::volumes when the cell is parametrized by one of the scene's named
+  // volumes (its `volume` is then a copy of that one), -1 otherwise. Cells that share a
+  // named volume, or are trimmed by it, see one inversion of it per pixel.
+  int scene_volume = -1;
+  // The clauses every pixel of the cell satisfies besides lying inside `volume`; empty for a
+  // whole volume.
+  Trim trim{};
+};
+
+// A named trivariate of the scene ("volumes" in the scene file): a cell's parametrization
+// or a trimming volume of other cells.
+struct SceneVolume {
+  std::string name;
+  std::string pointer;  // JSON pointer of its entry
+  Volume volume;        // model space (mm), placement applied
 };
 
 // A file a scene reads, with the SHA-256 of its bytes (for the job manifest).
@@ -62,6 +79,11 @@ struct Scene {
   // The scene's "dithering" settings; absent: the slicer's defaults (SliceParams::dither
   // overrides either).
   std::optional<DitherParams> dithering;
+  // Named trivariates that cells use as parametrization or trim (Cell::scene_volume,
+  // TrimClause::volume).
+  std::vector<SceneVolume> volumes;
+  // In scene order. Where cells overlap, a pixel belongs to exactly one of them: the last in
+  // this order that gives it a non-empty material, else the last that contains it.
   std::vector<Cell> cells;
 
   int num_materials() const noexcept { return static_cast<int>(materials.size()); }

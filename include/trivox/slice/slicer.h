@@ -28,6 +28,9 @@ struct LayerStats {
   std::int64_t folded_pixels = 0;      // pixels where a cell folds (several preimages)
   std::int64_t unresolved_pixels = 0;  // pixels where the global solver ran out of budget
   std::vector<std::int64_t> voxels_per_material;  // after dithering; index = scene material
+  // Pixels each cell owns (index = scene cell): every inside pixel has exactly one owner,
+  // so these add up to pixels_inside.
+  std::vector<std::int64_t> pixels_per_cell;
 };
 
 struct LayerResult {
@@ -53,14 +56,23 @@ class Slicer {
   // Slices layer `layer` (0 .. layout().num_layers - 1). Safe to call from several threads
   // at once; the result depends only on the scene, the parameters and `layer`.
   LayerResult slice_layer(int layer) const;
+  // The same, and the owner of every pixel (row-major, width_px x height_px): the index of
+  // the scene cell the pixel belongs to, or -1 outside every cell. Where cells overlap (shared
+  // faces of a multi-patch model), the owner is the last cell in scene order that gives the
+  // pixel a non-empty material, else the last that contains it; its material is the pixel's.
+  LayerResult slice_layer(int layer, std::vector<int>* owner) const;
 
  private:
+  struct Trivariate;
   struct CellData;
   const Scene& scene_;
   SliceParams params_;
   DitherParams dither_;
   double outline_tolerance_mm_ = 0;
   SliceLayout layout_;
+  // Every trivariate a cell uses, once: the scene's named volumes that are used (as a
+  // parametrization or a trim), then each other cell's own volume.
+  std::vector<std::unique_ptr<Trivariate>> trivariates_;
   std::vector<std::unique_ptr<CellData>> cells_;
 };
 

@@ -1,0 +1,51 @@
+// Trimming of a cell (paper, Section 3: FGM_cell = {V, M, S}). A cell keeps one
+// parametrization V and one material M; its set S of trims is a list of clauses, and the
+// cell's pixels are those inside V that satisfy every clause:
+//  * kVolume: inside (or outside) another trivariate of the scene, decided by that
+//    trivariate's exact inverse, so cells trimmed by each other's volumes (the Boolean cells
+//    "A only", "B only", "A and B") partition their union;
+//  * kShell: inside (or outside) a closed set of surfaces in model space (mm);
+//  * kParametric: the cell's (u, v, w) inside (or outside) a closed set of surfaces drawn in
+//    V's parametric domain.
+// Shells are decided on a watertight tessellation (shell_mesh.h) within a tolerance far
+// below a pixel.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "trivox/spline/tensor_spline.h"
+
+namespace trivox {
+
+enum class TrimSide { kInside, kOutside };
+enum class TrimKind { kVolume, kShell, kParametric };
+std::string_view to_string(TrimSide s) noexcept;
+std::string_view to_string(TrimKind k) noexcept;
+
+// A closed set of surfaces (two parameters, three coordinates each): model space (mm) for a
+// shell trim, the (u, v, w) of the cell's volume for a parametric trim. Closed means the
+// surfaces meet along their edges with no gap (shell_mesh.h checks it).
+struct TrimShell {
+  std::string name;  // for messages: the file it came from, or the scene pointer
+  std::vector<TensorSpline> surfaces;
+};
+
+struct TrimClause {
+  TrimKind kind = TrimKind::kVolume;
+  TrimSide side = TrimSide::kInside;
+  // kVolume: index into Scene::volumes.
+  int volume = -1;
+  // kShell, kParametric: the surfaces (shared between cells that use the same shell).
+  std::shared_ptr<const TrimShell> shell;
+};
+
+struct Trim {
+  std::vector<TrimClause> clauses;
+
+  bool empty() const noexcept { return clauses.empty(); }
+};
+
+}  // namespace trivox

@@ -1,0 +1,237 @@
+#include "trivox/trim/shell_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+#include <fmt/format.h>
+
+#include "trivox/error.h"
+
+namespace trivox {
+
+std::string_view to_string(TrimSide s) noexcept { return s == TrimSide::kInside ? "inside" : "outside"; }
+
+std::string_view to_string(TrimKind k) noexcept {
+  switch (k) {
+    case TrimKind::kVolume: return "volume";
+    case TrimKind::kShell: return "shell";
+    case TrimKind::kParametric: return "parametric";
+  }
+  return "?";
+}
+
+namespace {
+
+Vec3 eval(const TensorSpline& s, double a, double b) {
+  const double t[2] = {a, b};
+  double p[3];
+  s.evaluate(t, p);
+  return {p[0], p[1], p[2]};
+}
+
+double sample(double lo, double hi, int i, int n) { return i == n - 1 ? hi : lo + (hi - lo) * i / (n - 1); }
+
+// Largest deviation of the surface from its bilinear grid cells, at the cells' centres.
+double deviation(const TensorSpline& s, int n) {
+  double worst = 0;
+  std::vector<Vec3> prev(static_cast<std::size_t>(n)), cur(static_cast<std::size_t>(n));
+  const double a0 = s.lo(0), a1 = s.hi(0), b0 = s.lo(1), b1 = s.hi(1);
+  for (int i = 0; i < n; ++i) prev[static_cast<std::size_t>(i)] = eval(s, sample(a0, a1, i, n), b0);
+  for (int j = 1; j < n; ++j) {
+    const double tb = sample(b0, b1, j, n), tb_prev = sample(b0, b1, j - 1, n);
+    for (int i = 0; i < n; ++i) cur[static_cast<std::size_t>(i)] = eval(s, sample(a0, a1, i, n), tb);
+    for (int i = 1; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const Vec3 bilinear = 0.25 * (prev[k - 1] + prev[k] + cur[k - 1] + cur[k]);
+      const Vec3 centre = eval(s, 0.5 * (sample(a0, a1, i - 1, n) + sample(a0, a1, i, n)), 0.5 * (tb_prev + tb));
+      // The triangles split the cell along its (k-1, j-1)-(k, j) diagonal: a twisted cell
+      // can match its bilinear patch at the centre and miss the triangles, so the diagonal's
+      // midpoint is checked too.
+      worst = std::max({worst, norm(centre - bilinear), norm(centre - 0.5 * (prev[k - 1] + cur[k]))});
+    }
+    std::swap(prev, cur);
+  }
+  return worst;
+}
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& k) const noexcept {
+    return static_cast<std::size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+  }
+};
+
+}  // namespace
+
+ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples) {
+  if (shell.surfaces.empty()) throw ModelError(fmt::format("{}: the shell has no surface", shell.name));
+  int n = 3;
+  for (std::size_t i = 0; i < shell.surfaces.size(); ++i) {
+    const TensorSpline& s = shell.surfaces[i];
+    if (s.param_dim() != 2 || s.point_dim() != 3)
+      throw ModelError(fmt::format("{}: surface {} has {} parameter(s) and {} coordinate(s); a shell takes "
+                                   "surfaces in space (2 and 3)", shell.name, i, s.param_dim(), s.point_dim()));
+    for (int d = 0; d < 2; ++d)
+      n = std::max(n, 2 * (static_cast<int>(s.knots(d).interior_breaks().size()) + 1) + 1);
+  }
+  // One sample count for every surface and direction keeps shared edges sampled alike.
+  n = std::min(n, max_samples);
+  while (n < max_samples) {
+    double worst = 0;
+    for (const TensorSpline& s : shell.surfaces) worst = std::max(worst, deviation(s, n));
+    if (worst <= tolerance) break;
+    n = std::min(max_samples, 2 * n - 1);
+  }
+  samples_ = n;
+
+  // Samples, then the weld: a hash of cells of the weld distance, looking at the 27 cells
+  // around each new point so that two points on either side of a cell wall still merge.
+  std::vector<Vec3> raw;
+  for (const TensorSpline& s : shell.surfaces)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = eval(s, sample(s.lo(0), s.hi(0), i, n), sample(s.lo(1), s.hi(1), j, n));
+        raw.push_back(p);
+        bounds_.expand(p);
+      }
+  const double size = norm(bounds_.hi - bounds_.lo);
+  const double weld = std::max(1e-9 * size, 1e-12);
+  std::unordered_map<CellKey, std::vector<int>, CellHash> cells;
+  std::vector<int> index(raw.size());
+  for (std::size_t k = 0; k < raw.size(); ++k) {
+    const Vec3& p = raw[k];
+    const CellKey key{static_cast<std::int64_t>(std::floor(p.x / weld)), static_cast<std::int64_t>(std::floor(p.y / weld)),
+                      static_cast<std::int64_t>(std::floor(p.z / weld))};
+    int found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          const auto it = cells.find({key.x + dx, key.y + dy, key.z + dz});
+          if (it == cells.end()) continue;
+          for (int v : it->second)
+            if (norm(vertices_[static_cast<std::size_t>(v)] - p) <= weld) {
+              found = v;
+              break;
+            }
+        }
+    if (found < 0) {
+      found = static_cast<int>(vertices_.size());
+      vertices_.push_back(p);
+      cells[key].push_back(found);
+    }
+    index[k] = found;
+  }
+  const auto un = static_cast<std::size_t>(n);
+  for (std::size_t s = 0; s < shell.surfaces.size(); ++s)
+    for (std::size_t j = 0; j + 1 < un; ++j)
+      for (std::size_t i = 0; i + 1 < un; ++i) {
+        const std::size_t base = s * un * un;
+        const int a = index[base + j * un + i], b = index[base + j * un + i + 1];
+        const int c = index[base + (j + 1) * un + i + 1], d = index[base + (j + 1) * un + i];
+        // Triangles that collapsed in the weld (a pole of a surface) carry no area.
+        for (const std::array<int, 3> t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{a, c, d}})
+          if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles_.push_back(t);
+      }
+  std::unordered_map<std::uint64_t, int> edge_use;
+  for (const auto& t : triangles_)
+    for (int e = 0; e < 3; ++e) {
+      auto a = static_cast<std::uint64_t>(t[static_cast<std::size_t>(e)]);
+      auto b = static_cast<std::uint64_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
+      if (a > b) std::swap(a, b);
+      ++edge_use[(a << 32) | b];
+    }
+  for (const auto& [edge, uses] : edge_use)
+    if (uses % 2 == 1) ++open_edges_;
+  build_index();
+}
+
+ShellMesh ShellMesh::mapped(const std::function<Vec3(Vec3)>& map) const {
+  ShellMesh m;
+  m.samples_ = samples_;
+  m.triangles_ = triangles_;
+  m.open_edges_ = open_edges_;
+  m.vertices_.reserve(vertices_.size());
+  for (const Vec3& v : vertices_) {
+    m.vertices_.push_back(map(v));
+    m.bounds_.expand(m.vertices_.back());
+  }
+  m.build_index();
+  return m;
+}
+
+void ShellMesh::build_index() {
+  z_buckets_.clear();
+  yz_cells_.clear();
+  if (triangles_.empty() || bounds_.empty()) return;
+  const double tri = static_cast<double>(triangles_.size());
+  nz_ = std::clamp(static_cast<int>(std::sqrt(tri)), 1, 4096);
+  ny_ = std::clamp(static_cast<int>(std::sqrt(tri / 4.0)), 1, 1024);
+  z0_ = bounds_.lo.z;
+  dz_ = std::max((bounds_.hi.z - bounds_.lo.z) / nz_, 1e-300);
+  y0_ = bounds_.lo.y;
+  dy_ = std::max((bounds_.hi.y - bounds_.lo.y) / ny_, 1e-300);
+  const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
+  z_buckets_.resize(static_cast<std::size_t>(nz_));
+  yz_cells_.resize(static_cast<std::size_t>(ny_) * static_cast<std::size_t>(ny_));
+  auto clampi = [](double v, int n) { return std::clamp(static_cast<int>(std::floor(v)), 0, n - 1); };
+  for (std::size_t k = 0; k < triangles_.size(); ++k) {
+    Box3 b;
+    for (int v : triangles_[k]) b.expand(vertices_[static_cast<std::size_t>(v)]);
+    for (int i = clampi((b.lo.z - z0_) / dz_, nz_); i <= clampi((b.hi.z - z0_) / dz_, nz_); ++i)
+      z_buckets_[static_cast<std::size_t>(i)].push_back(static_cast<int>(k));
+    for (int iz = clampi((b.lo.z - z0_) / dzc, ny_); iz <= clampi((b.hi.z - z0_) / dzc, ny_); ++iz)
+      for (int iy = clampi((b.lo.y - y0_) / dy_, ny_); iy <= clampi((b.hi.y - y0_) / dy_, ny_); ++iy)
+        yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)].push_back(
+            static_cast<int>(k));
+  }
+}
+
+bool ShellMesh::cut_triangle(int tri, double z, ShellSegment& s) const {
+  const auto& t = triangles_[static_cast<std::size_t>(tri)];
+  Vec3 pts[2];
+  int found = 0;
+  for (int e = 0; e < 3; ++e) {
+    int ia = t[static_cast<std::size_t>(e)], ib = t[static_cast<std::size_t>((e + 1) % 3)];
+    if (ia > ib) std::swap(ia, ib);  // fixed order: shared edges cut identically
+    const Vec3& a = vertices_[static_cast<std::size_t>(ia)];
+    const Vec3& b = vertices_[static_cast<std::size_t>(ib)];
+    if ((a.z >= z) == (b.z >= z)) continue;
+    const double u = (z - a.z) / (b.z - a.z);
+    if (found < 2) pts[found] = a + u * (b - a);
+    ++found;
+  }
+  if (found != 2) return false;
+  s = {pts[0].x, pts[0].y, pts[1].x, pts[1].y};
+  return true;
+}
+
+void ShellMesh::cut(double z, std::vector<ShellSegment>& out) const {
+  out.clear();
+  if (z_buckets_.empty() || z < bounds_.lo.z || z > bounds_.hi.z) return;
+  const int b = std::clamp(static_cast<int>(std::floor((z - z0_) / dz_)), 0, nz_ - 1);
+  ShellSegment s;
+  for (int tri : z_buckets_[static_cast<std::size_t>(b)])
+    if (cut_triangle(tri, z, s)) out.push_back(s);
+}
+
+bool ShellMesh::contains(Vec3 p) const {
+  if (yz_cells_.empty() || !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y && p.y <= bounds_.hi.y) ||
+      p.x > bounds_.hi.x)
+    return false;
+  const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
+  const int iz = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dzc)), 0, ny_ - 1);
+  const int iy = std::clamp(static_cast<int>(std::floor((p.y - y0_) / dy_)), 0, ny_ - 1);
+  bool inside = false;
+  ShellSegment s;
+  double x;
+  for (int tri : yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
+    if (cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x) && x > p.x) inside = !inside;
+  return inside;
+}
+
+}  // namespace trivox

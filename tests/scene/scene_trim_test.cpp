@@ -1,0 +1,114 @@
+// Scene files with named volumes, trims and unions: what they expand to, and the errors
+// that name the file, the JSON pointer and the rule.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "scene/scene_test_util.h"
+#include "support/test_support.h"
+
+namespace trivox {
+namespace {
+
+std::string box(double x0, double x1) {
+  return fmt::format(R"({{"orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+    "points": [[{0}, 0, 0], [{1}, 0, 0], [{0}, 2, 0], [{1}, 2, 0], [{0}, 0, 2], [{1}, 0, 2], [{0}, 2, 2], [{1}, 2, 2]]}})",
+                     x0, x1);
+}
+
+std::string scene(const std::string& volumes_and_cells) {
+  return R"({"version": 1, "units": "mm", "printer": "j750-paper", "materials": ["VeroCyan", "VeroMagenta"],
+  "volumes": [{"name": "A", "geometry": )" + box(0, 4) + R"(}, {"name": "B", "geometry": )" + box(2, 6) + "}],\n" +
+         volumes_and_cells + "}";
+}
+
+// A face of the unit cube as an inline bilinear surface.
+std::string face(const std::string& p00, const std::string& p10, const std::string& p01, const std::string& p11) {
+  return R"({"orders": [2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1]], "points": [)" + p00 + "," + p10 + "," + p01 +
+         "," + p11 + "]}";
+}
+
+TEST(SceneTrim, UnionExpandsIntoMutuallyExclusiveCells) {
+  const Scene s = parse_scene(scene(R"("unions": [{"name": "u", "volumes": ["A", "B"], "regions": [
+      {"of": ["A"], "material": "VeroCyan"}, {"of": ["B"], "material": "VeroMagenta"},
+      {"of": ["A", "B"], "parametrize": "B", "material": "VeroCyan"}]}])"),
+                              "scene.json");
+  ASSERT_EQ(s.cells.size(), 3u);
+  EXPECT_EQ(s.cells[0].name, "u/A");
+  EXPECT_EQ(s.cells[2].name, "u/A+B");
+  EXPECT_EQ(s.cells[0].scene_volume, 0);
+  ASSERT_EQ(s.cells[0].trim.clauses.size(), 1u);
+  EXPECT_EQ(s.cells[0].trim.clauses[0].volume, 1);
+  EXPECT_EQ(s.cells[0].trim.clauses[0].side, TrimSide::kOutside);
+  EXPECT_EQ(s.cells[1].scene_volume, 1);
+  EXPECT_EQ(s.cells[1].trim.clauses[0].side, TrimSide::kOutside);
+  EXPECT_EQ(s.cells[2].scene_volume, 1);
+  EXPECT_EQ(s.cells[2].trim.clauses[0].volume, 0);
+  EXPECT_EQ(s.cells[2].trim.clauses[0].side, TrimSide::kInside);
+}
+
+TEST(SceneTrim, UnknownTrimVolumeNamesTheFieldAndTheNames) {
+  test::expect_scene_error(
+      scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "outside", "volume": "C"}]}])"),
+      "/cells/0/trim/0/volume", "there is no volume \"C\" in \"volumes\"; the names are \"A\", \"B\"");
+}
+
+TEST(SceneTrim, BadSideIsRefused) {
+  test::expect_scene_error(
+      scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "within", "volume": "B"}]}])"),
+      "/cells/0/trim/0/side", "expected \"inside\" or \"outside\", got \"within\"");
+}
+
+TEST(SceneTrim, OwnVolumeIsRefused) {
+  test::expect_scene_error(
+      scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside", "volume": "A"}]}])"),
+      "/cells/0/trim/0/volume", "the cell's own volume");
+}
+
+TEST(SceneTrim, MissingUnionRegionIsRefused) {
+  test::expect_scene_error(scene(R"("unions": [{"name": "u", "volumes": ["A", "B"], "regions": [
+      {"of": ["A"], "material": "VeroCyan"}, {"of": ["B"], "material": "VeroMagenta"}]}])"),
+                           "/unions/0/regions", "no region covers the points inside exactly [\"A\", \"B\"]");
+}
+
+TEST(SceneTrim, OpenShellIsAnInputErrorNamingTheShell) {
+  // Five faces of the unit cube: the top is missing.
+  const std::string faces = face("[0,0,0]", "[0,1,0]", "[0,0,1]", "[0,1,1]") + "," +
+                            face("[1,0,0]", "[1,1,0]", "[1,0,1]", "[1,1,1]") + "," +
+                            face("[0,0,0]", "[1,0,0]", "[0,0,1]", "[1,0,1]") + "," +
+                            face("[0,1,0]", "[1,1,0]", "[0,1,1]", "[1,1,1]") + "," +
+                            face("[0,0,0]", "[1,0,0]", "[0,1,0]", "[1,1,0]");
+  test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "shell": {"surfaces": [)" + faces + "]}}]}]"),
+                           "/cells/0/trim/0/shell", "is not closed");
+  // With the top the same shell reads.
+  const std::string closed = faces + "," + face("[0,0,1]", "[1,0,1]", "[0,1,1]", "[1,1,1]");
+  const Scene s = parse_scene(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "parametric": {"surfaces": [)" + closed + "]}}]}]"),
+                              "scene.json");
+  ASSERT_EQ(s.cells.size(), 1u);
+  EXPECT_EQ(s.cells[0].trim.clauses[0].kind, TrimKind::kParametric);
+  EXPECT_EQ(s.cells[0].trim.clauses[0].shell->surfaces.size(), 6u);
+}
+
+TEST(SceneTrim, OpenShellFromAFileNamesTheFile) {
+  const auto dir = test::shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  // The Utah teapot's 32 Bezier patches leave the bottom open.
+  const std::string file = (dir / "surfaces" / "teapot_bezier_patches.xml").string();
+  test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "shell": {"file": ")" + file + R"("}}]}])"),
+                           "/cells/0/trim/0/shell/file", "teapot_bezier_patches.xml\" is not closed");
+}
+
+TEST(SceneTrim, DuckShellReads) {
+  const auto dir = test::shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const std::string file = (dir / "surfaces" / "duck_brep.xml").string();
+  const Scene s = parse_scene(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "shell": {"file": ")" + file + R"(", "placement": {"scale": 10}}}]}])"),
+                              "scene.json");
+  EXPECT_EQ(s.cells[0].trim.clauses[0].shell->surfaces.size(), 6u);
+}
+
+}  // namespace
+}  // namespace trivox
