@@ -335,13 +335,14 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   LayerStats total;
   double time_sum = 0;
   total.voxels_per_material.assign(static_cast<std::size_t>(slicer.scene().num_materials()), 0);
+  total.pixels_per_cell.assign(slicer.scene().cells.size(), 0);
   for (const LayerStats& s : stats.layers) {
     const double share = s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
     layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"seconds_inverse", s.seconds_inverse}, {"seconds_material", s.seconds_material}, {"seconds_dither", s.seconds_dither}, {"pixels_total", s.pixels_total},
                       {"pixels_inside", s.pixels_inside}, {"candidates", s.candidates}, {"global_calls", s.global_calls},
                       {"global_share_percent", share}, {"newton_evals", s.newton_evals},
                       {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},
-                      {"voxels_per_material", s.voxels_per_material}});
+                      {"voxels_per_material", s.voxels_per_material}, {"pixels_per_cell", s.pixels_per_cell}});
     total.pixels_total += s.pixels_total;
     total.pixels_inside += s.pixels_inside;
     total.candidates += s.candidates;
@@ -352,9 +353,14 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
     time_sum += s.seconds;
     for (std::size_t j = 0; j < s.voxels_per_material.size() && j < total.voxels_per_material.size(); ++j)
       total.voxels_per_material[j] += s.voxels_per_material[j];
+    for (std::size_t c = 0; c < s.pixels_per_cell.size() && c < total.pixels_per_cell.size(); ++c)
+      total.pixels_per_cell[c] += s.pixels_per_cell[c];
   }
   json materials = json::array();
   for (const MaterialDef& m : slicer.scene().materials) materials.push_back({{"name", m.name}, {"rgba", m.rgba}});
+  // Cell names in scene order: the index of pixels_per_cell.
+  json cells = json::array();
+  for (const Cell& c : slicer.scene().cells) cells.push_back(c.name);
   const double n = static_cast<double>(std::max<std::size_t>(1, stats.layers.size()));
   json doc = {
       {"scene", slicer.scene().source},
@@ -368,6 +374,7 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
       {"bitmap", {{"width_px", L.width_px}, {"height_px", L.height_px}, {"x0_mm", L.x0_mm}, {"y_top_mm", L.y_top_mm},
                   {"z0_mm", L.z0_mm}}},
       {"materials", materials},
+      {"cells", cells},
       {"total",
        {{"layers_sliced", stats.layers.size()}, {"layers_padded", stats.padded_layers},
         {"layers_kept", stats.layers_kept}, {"interrupted", stats.interrupted}, {"threads", stats.threads},
@@ -376,7 +383,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
         {"candidates", total.candidates}, {"global_calls", total.global_calls},
         {"global_share_percent", total.pixels_inside > 0 ? 100.0 * static_cast<double>(total.global_calls) / static_cast<double>(total.pixels_inside) : 0.0},
         {"newton_evals", total.newton_evals}, {"folded_pixels", total.folded_pixels},
-        {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material}}},
+        {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material},
+        {"pixels_per_cell", total.pixels_per_cell}}},
       {"layers", layers}};
   write_file_atomic(path, doc.dump(1) + "\n");
 }

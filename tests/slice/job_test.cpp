@@ -94,6 +94,37 @@ TEST(SliceJob, EveryDitherMethodIsIndependentOfTheThreadCount) {
   }
 }
 
+// stats.json: the pixels each cell owns, per layer and in total, add up to the inside pixels
+// (every cell has a non-empty material, so every inside pixel is owned), and match what the
+// slicer reports for the layer.
+TEST(SliceJob, StatsListThePixelsOfEveryCell) {
+  const Scene scene = two_material_scene();
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fresh_dir("pixels-per-cell");
+  p.min_layers = 0;
+  run_slice_job(slicer, p);
+  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  ASSERT_EQ(stats.at("cells").size(), 2u);
+  EXPECT_EQ(stats["cells"][0], "gradient");
+  EXPECT_EQ(stats["cells"][1], "ring");
+  std::vector<long> total(2, 0);
+  int layers_with_both = 0;
+  for (const auto& layer : stats.at("layers")) {
+    const auto per_cell = layer.at("pixels_per_cell").get<std::vector<long>>();
+    ASSERT_EQ(per_cell.size(), 2u);
+    EXPECT_EQ(per_cell[0] + per_cell[1], layer.at("pixels_inside").get<long>()) << layer.at("layer");
+    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>()).stats;
+    EXPECT_EQ(std::vector<long>(direct.pixels_per_cell.begin(), direct.pixels_per_cell.end()), per_cell);
+    total[0] += per_cell[0];
+    total[1] += per_cell[1];
+    layers_with_both += per_cell[0] > 0 && per_cell[1] > 0;
+  }
+  EXPECT_GT(layers_with_both, 0);
+  EXPECT_EQ(stats.at("total").at("pixels_per_cell").get<std::vector<long>>(), total);
+  EXPECT_EQ(total[0] + total[1], stats["total"].at("pixels_inside").get<long>());
+}
+
 // The scene's dithering applies unless the slice parameters give their own.
 TEST(SliceJob, SceneDitheringAppliesUnlessOverridden) {
   Scene scene = two_material_scene();
