@@ -62,8 +62,12 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
     } else {
       for (std::size_t i = 0; i + 1 < xs.size(); i += 2) add_span(rows, L, r, xs[i] - m, xs[i + 1] + m);
     }
-    // Merge overlapping and touching spans.
-    auto& spans = rows[static_cast<std::size_t>(r)];
+  }
+  merge_spans(rows);
+}
+
+void merge_spans(RowSpans& rows) {
+  for (auto& spans : rows) {
     std::sort(spans.begin(), spans.end());
     std::vector<std::pair<int, int>> merged;
     for (const auto& sp : spans) {
@@ -73,6 +77,73 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
         merged.push_back(sp);
     }
     spans = std::move(merged);
+  }
+}
+
+void intersect_spans(RowSpans& rows, const RowSpans& mask) {
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const auto& b = r < mask.size() ? mask[r] : std::vector<std::pair<int, int>>{};
+    std::vector<std::pair<int, int>> out;
+    std::size_t j = 0;
+    for (const auto& [a0, a1] : rows[r]) {
+      while (j < b.size() && b[j].second < a0) ++j;
+      for (std::size_t k = j; k < b.size() && b[k].first <= a1; ++k) {
+        const int lo = std::max(a0, b[k].first), hi = std::min(a1, b[k].second);
+        if (lo <= hi) out.push_back({lo, hi});
+      }
+    }
+    rows[r] = std::move(out);
+  }
+}
+
+namespace {
+
+// Sutherland-Hodgman: the part of a convex polygon where f(p) >= 0, f affine.
+template <class P, class F>
+std::vector<P> clip(const std::vector<P>& poly, F f) {
+  std::vector<P> out;
+  for (std::size_t i = 0; i < poly.size(); ++i) {
+    const P& a = poly[i];
+    const P& b = poly[(i + 1) % poly.size()];
+    const double fa = f(a), fb = f(b);
+    if (fa >= 0) out.push_back(a);
+    if ((fa >= 0) != (fb >= 0)) out.push_back(a + (fa / (fa - fb)) * (b - a));
+  }
+  return out;
+}
+
+}  // namespace
+
+void add_slab_spans(const std::vector<std::array<Vec3, 3>>& triangles, double z0, double z1, const SliceLayout& L,
+                    double m, RowSpans& rows) {
+  rows.resize(static_cast<std::size_t>(L.height_px));
+  for (const auto& t : triangles) {
+    std::vector<Vec3> poly(t.begin(), t.end());
+    poly = clip(poly, [z0](const Vec3& p) { return p.z - z0; });
+    poly = clip(poly, [z1](const Vec3& p) { return z1 - p.z; });
+    if (poly.empty()) continue;
+    double ylo = poly[0].y, yhi = poly[0].y;
+    for (const Vec3& p : poly) {
+      ylo = std::min(ylo, p.y);
+      yhi = std::max(yhi, p.y);
+    }
+    const auto [r0, r1] = rows_between(L, ylo - m, yhi + m);
+    for (int r = r0; r <= r1; ++r) {
+      const double yc = L.y_of_row(r);
+      std::vector<Vec3> strip = clip(poly, [&](const Vec3& p) { return p.y - (yc - m); });
+      strip = clip(strip, [&](const Vec3& p) { return (yc + m) - p.y; });
+      if (strip.empty()) {
+        // A polygon thinner than rounding between the strip's lines: its own extent.
+        if (ylo > yc + m || yhi < yc - m) continue;
+        strip = poly;
+      }
+      double xlo = strip[0].x, xhi = strip[0].x;
+      for (const Vec3& p : strip) {
+        xlo = std::min(xlo, p.x);
+        xhi = std::max(xhi, p.x);
+      }
+      add_span(rows, L, r, xlo - m, xhi + m);
+    }
   }
 }
 

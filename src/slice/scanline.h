@@ -1,6 +1,7 @@
 // Scan conversion of a cell's outline into the pixels worth inverting, row by row.
 #pragma once
 
+#include <array>
 #include <utility>
 #include <vector>
 
@@ -20,6 +21,17 @@ using RowSpans = std::vector<std::vector<std::pair<int, int>>>;
 // open outline) fall back to the whole span between their first and last crossing.
 void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
                      RowSpans& rows);
+
+// Adds to `rows` every pixel whose centre lies within `margin_mm` (in x and in y) of the part
+// of a triangle inside the slab z0 <= z <= z1, projected on the layer: with the even-odd
+// interior of the cut at the slab's middle (candidate_spans), every centre within the slab's
+// half height and `margin_mm` of a surface is covered, however flat the surface lies.
+void add_slab_spans(const std::vector<std::array<Vec3, 3>>& triangles, double z0, double z1, const SliceLayout& layout,
+                    double margin_mm, RowSpans& rows);
+// Sorts each row's spans and merges overlapping and touching ones.
+void merge_spans(RowSpans& rows);
+// Keeps in `rows` only the pixels also in `mask` (both merged).
+void intersect_spans(RowSpans& rows, const RowSpans& mask);
 
 // The crossings of every row's centre line with a cut shell (trivox/trim/shell_mesh.h), by
 // the rule of ShellMesh::contains, sorted per row: pixel (col, row) is inside the shell when

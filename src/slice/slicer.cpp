@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <optional>
 
@@ -34,6 +35,9 @@ struct Slicer::CellData {
     TrimSide side;
     int trivariate = -1;                      // kVolume
     std::shared_ptr<const ShellMesh> mesh;    // kShell (model space), kParametric (u, v, w)
+    // kParametric inside: `mesh` mapped through the cell's volume, the clause's outline in
+    // model space (the pixels it keeps lie inside it, or within the outline margin).
+    std::shared_ptr<const ShellMesh> outline;
     int shell_slot = -1;                      // kShell: index of its cut in the layer's cuts
   };
   const Cell* cell;
@@ -41,6 +45,7 @@ struct Slicer::CellData {
   std::vector<Clause> clauses;
   bool model_space_clauses = false;  // any kVolume or kShell clause
   bool parametric_clauses = false;
+  bool parametric_outlines = false;  // any kParametric clause with an outline
 };
 
 namespace {
@@ -83,7 +88,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   // Shells shared by several clauses are tessellated once. Model-space shells are decided by
   // their tessellation alone, so they get half the outline tolerance (an eighth of a pixel
   // by default); parametric ones 1e-4 of the cell's parameter box.
-  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells;
+  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
   int shell_slots = 0;
   for (const Cell& c : scene.cells) {
     auto cd = std::make_unique<CellData>();
@@ -95,7 +100,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
       trivariates_.push_back(std::make_unique<Trivariate>(c.volume, outline_tolerance_mm_));
     }
     for (const TrimClause& clause : c.trim.clauses) {
-      CellData::Clause k{clause.kind, clause.side, -1, nullptr, -1};
+      CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1};
       if (clause.kind == TrimKind::kVolume) {
         k.trivariate = volume_trivariate(clause.volume);
         trivariates_[static_cast<std::size_t>(k.trivariate)]->traced_first = true;
@@ -103,10 +108,18 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
       } else {
         const bool param = clause.kind == TrimKind::kParametric;
         auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
+        // A parametric trim's tessellation is also its outline once mapped through the cell's
+        // volume (clamped to its domain, so a trim reaching past the domain's faces maps onto
+        // them): it is refined until that image lies within the outline tolerance too.
+        const Volume& volume = c.volume;
+        const std::function<Vec3(Vec3)> through_volume = [&volume](Vec3 uvw) {
+          return volume.evaluate(volume.domain().clamp(uvw));
+        };
         if (!mesh) {
           const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo)
                                          : 0.5 * outline_tolerance_mm_;
-          auto m = std::make_shared<ShellMesh>(*clause.shell, tolerance);
+          auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_)
+                         : std::make_shared<ShellMesh>(*clause.shell, tolerance);
           if (m->open_edges() > 0)
             throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene.source, c.name,
                                     clause.shell->name, m->open_edges()));
@@ -115,6 +128,12 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
         k.mesh = mesh;
         if (param) {
           cd->parametric_clauses = true;
+          if (clause.side == TrimSide::kInside) {
+            auto& outline = outlines[{clause.shell.get(), &c}];
+            if (!outline) outline = std::make_shared<ShellMesh>(mesh->mapped(through_volume));
+            k.outline = outline;
+            cd->parametric_outlines = true;
+          }
         } else {
           k.shell_slot = shell_slots++;
           cd->model_space_clauses = true;
@@ -195,6 +214,9 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     counters += tracer.counters();
   }
   std::vector<ShellSegment> shell_segments;
+  std::vector<detail::Segment2> outline_segments;
+  detail::RowSpans outline_spans;
+  std::vector<std::array<Vec3, 3>> slab_triangles;
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses)
       if (k.shell_slot >= 0) {
@@ -253,6 +275,24 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
                 kept_spans.push_back({col, col});
             }
           row_spans = std::move(kept_spans);
+        }
+      }
+      if (cd.parametric_outlines && params_.parametric_outlines) {
+        // Only pixels inside the outline of every "inside" parametric clause can pass it: the
+        // even-odd interior of its cut at this layer, widened by the margin of every outline,
+        // and every centre within the margin of the part of it within the margin above or
+        // below the layer (a nearly flat face of the trim).
+        const double margin = 2.0 * outline_tolerance_mm_;
+        for (const auto& k : cd.clauses) {
+          if (!k.outline) continue;
+          k.outline->cut(st.z_mm, shell_segments);
+          outline_segments.clear();
+          for (const ShellSegment& s : shell_segments) outline_segments.push_back({s.x0, s.y0, s.x1, s.y1});
+          detail::candidate_spans(outline_segments, L, margin, outline_spans);
+          k.outline->slab(st.z_mm - margin, st.z_mm + margin, slab_triangles);
+          detail::add_slab_spans(slab_triangles, st.z_mm - margin, st.z_mm + margin, L, margin, outline_spans);
+          detail::merge_spans(outline_spans);
+          detail::intersect_spans(spans, outline_spans);
         }
       }
       tracer.emplace(*tv.volume, tv.solver, params_, L.width_px);

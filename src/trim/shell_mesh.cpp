@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -33,15 +34,28 @@ Vec3 eval(const TensorSpline& s, double a, double b) {
 
 double sample(double lo, double hi, int i, int n) { return i == n - 1 ? hi : lo + (hi - lo) * i / (n - 1); }
 
-// Largest deviation of the surface from its bilinear grid cells, at the cells' centres.
-double deviation(const TensorSpline& s, int n) {
-  double worst = 0;
+using Map = std::function<Vec3(Vec3)>;
+
+// Largest deviations of the surface from its bilinear grid cells, at the cells' centres: of
+// the surface itself, and of its image through `map` (when given) from the bilinear cell of
+// the mapped corners.
+std::pair<double, double> deviation(const TensorSpline& s, int n, const Map* map) {
+  double worst = 0, worst_mapped = 0;
   std::vector<Vec3> prev(static_cast<std::size_t>(n)), cur(static_cast<std::size_t>(n));
+  std::vector<Vec3> prev_m(static_cast<std::size_t>(map ? n : 0)), cur_m(static_cast<std::size_t>(map ? n : 0));
   const double a0 = s.lo(0), a1 = s.hi(0), b0 = s.lo(1), b1 = s.hi(1);
-  for (int i = 0; i < n; ++i) prev[static_cast<std::size_t>(i)] = eval(s, sample(a0, a1, i, n), b0);
+  for (int i = 0; i < n; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    prev[k] = eval(s, sample(a0, a1, i, n), b0);
+    if (map) prev_m[k] = (*map)(prev[k]);
+  }
   for (int j = 1; j < n; ++j) {
     const double tb = sample(b0, b1, j, n), tb_prev = sample(b0, b1, j - 1, n);
-    for (int i = 0; i < n; ++i) cur[static_cast<std::size_t>(i)] = eval(s, sample(a0, a1, i, n), tb);
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      cur[k] = eval(s, sample(a0, a1, i, n), tb);
+      if (map) cur_m[k] = (*map)(cur[k]);
+    }
     for (int i = 1; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
       const Vec3 bilinear = 0.25 * (prev[k - 1] + prev[k] + cur[k - 1] + cur[k]);
@@ -50,10 +64,21 @@ double deviation(const TensorSpline& s, int n) {
       // can match its bilinear patch at the centre and miss the triangles, so the diagonal's
       // midpoint is checked too.
       worst = std::max({worst, norm(centre - bilinear), norm(centre - 0.5 * (prev[k - 1] + cur[k]))});
+      if (map) {
+        const Vec3 mc = (*map)(centre);
+        const Vec3 mb = 0.25 * (prev_m[k - 1] + prev_m[k] + cur_m[k - 1] + cur_m[k]);
+        // The mapped edge midpoints too: a map that bends a straight edge moves the outline
+        // where neighbouring cells meet.
+        const Vec3 e0 = (*map)(0.5 * (prev[k - 1] + prev[k])), e1 = (*map)(0.5 * (prev[k - 1] + cur[k - 1]));
+        worst_mapped = std::max({worst_mapped, norm(mc - mb), norm(mc - 0.5 * (prev_m[k - 1] + cur_m[k])),
+                                 norm(e0 - 0.5 * (prev_m[k - 1] + prev_m[k])),
+                                 norm(e1 - 0.5 * (prev_m[k - 1] + cur_m[k - 1]))});
+      }
     }
     std::swap(prev, cur);
+    std::swap(prev_m, cur_m);
   }
-  return worst;
+  return {worst, worst_mapped};
 }
 
 struct CellKey {
@@ -68,7 +93,12 @@ struct CellHash {
 
 }  // namespace
 
-ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples) {
+ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples)
+    : ShellMesh(shell, tolerance, nullptr, 0.0, max_samples) {}
+
+ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map,
+                     double map_tolerance, int max_samples) {
+  const Map* mapping = map ? &map : nullptr;
   if (shell.surfaces.empty()) throw ModelError(fmt::format("{}: the shell has no surface", shell.name));
   int n = 3;
   for (std::size_t i = 0; i < shell.surfaces.size(); ++i) {
@@ -82,9 +112,13 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples) 
   // One sample count for every surface and direction keeps shared edges sampled alike.
   n = std::min(n, max_samples);
   while (n < max_samples) {
-    double worst = 0;
-    for (const TensorSpline& s : shell.surfaces) worst = std::max(worst, deviation(s, n));
-    if (worst <= tolerance) break;
+    double worst = 0, worst_mapped = 0;
+    for (const TensorSpline& s : shell.surfaces) {
+      const auto [d, dm] = deviation(s, n, mapping);
+      worst = std::max(worst, d);
+      worst_mapped = std::max(worst_mapped, dm);
+    }
+    if (worst <= tolerance && worst_mapped <= map_tolerance) break;
     n = std::min(max_samples, 2 * n - 1);
   }
   samples_ = n;
@@ -217,6 +251,26 @@ void ShellMesh::cut(double z, std::vector<ShellSegment>& out) const {
   ShellSegment s;
   for (int tri : z_buckets_[static_cast<std::size_t>(b)])
     if (cut_triangle(tri, z, s)) out.push_back(s);
+}
+
+void ShellMesh::slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out) const {
+  out.clear();
+  if (z_buckets_.empty() || z1 < bounds_.lo.z || z0 > bounds_.hi.z) return;
+  auto bucket = [&](double z) { return std::clamp(static_cast<int>(std::floor((z - z0_) / dz_)), 0, nz_ - 1); };
+  const int b0 = bucket(z0), b1 = bucket(z1);
+  for (int b = b0; b <= b1; ++b)
+    for (int tri : z_buckets_[static_cast<std::size_t>(b)]) {
+      const auto& t = triangles_[static_cast<std::size_t>(tri)];
+      const Vec3& p = vertices_[static_cast<std::size_t>(t[0])];
+      const Vec3& q = vertices_[static_cast<std::size_t>(t[1])];
+      const Vec3& r = vertices_[static_cast<std::size_t>(t[2])];
+      const double lo = std::min({p.z, q.z, r.z}), hi = std::max({p.z, q.z, r.z});
+      if (hi < z0 || lo > z1) continue;
+      // A triangle spanning several buckets is listed in each: emit it from the first one
+      // the slab and the triangle share.
+      if (b != std::max(b0, bucket(lo))) continue;
+      out.push_back({p, q, r});
+    }
 }
 
 bool ShellMesh::contains(Vec3 p) const {

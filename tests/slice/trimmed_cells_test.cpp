@@ -2,6 +2,7 @@
 // trims agree with independent inside tests, and every inside pixel has one owner.
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 
 #include <gtest/gtest.h>
 
@@ -173,6 +174,49 @@ TEST(TrimmedCells, ParametricTrimAgreesWithDirectEvaluation) {
   }
   EXPECT_GT(removed, 300);
   EXPECT_GT(kept, 1000);
+}
+
+// "Inside" parametric trims narrow the inverted pixels to their outline (the parametric
+// tessellation mapped through the cell's curved volume, widened by the outline margin)
+// without losing a pixel: the owners and labels equal those of a run that inverts every pixel
+// of the cell's outline and tests each one, on every layer.
+TEST(TrimmedCells, ParametricOutlinesNarrowTheCandidatesAndChangeNoPixel) {
+  // A rational quarter annulus; the kept region is a skewed parameter hexahedron that reaches
+  // past the domain's face v = 0 (its outline there follows the cell's face), with a smaller
+  // one removed from it.
+  const Hexahedron keep = {Vec3{0.15, -0.2, 0.1}, Vec3{0.85, -0.1, 0.15}, Vec3{0.2, 0.7, 0.05}, Vec3{0.9, 0.6, 0.2},
+                           Vec3{0.1, -0.15, 0.8}, Vec3{0.8, -0.2, 0.9}, Vec3{0.25, 0.65, 0.95}, Vec3{0.95, 0.75, 0.85}};
+  Scene s = test::scene_with({test::gradient_cell(test::annulus_sector(1, 3, 1))}, 2);
+  TrimClause inside;
+  inside.kind = TrimKind::kParametric;
+  inside.side = TrimSide::kInside;
+  inside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(keep));
+  TrimClause outside = inside;
+  outside.side = TrimSide::kOutside;
+  outside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(test::axis_box({0.4, 0.2, 0.3}, {0.6, 0.4, 0.6})));
+  s.cells[0].trim.clauses = {inside, outside};
+  SliceParams reference_params;
+  reference_params.parametric_outlines = false;
+  const Slicer narrowed(s, {}), reference(s, reference_params);
+  const SliceLayout& L = narrowed.layout();
+  ASSERT_EQ(L.num_layers, reference.layout().num_layers);
+  std::int64_t candidates = 0, reference_candidates = 0, inside_pixels = 0;
+  for (int layer = 0; layer < L.num_layers; layer += 2) {
+    std::vector<int> owner, reference_owner;
+    const LayerResult r = narrowed.slice_layer(layer, &owner);
+    const LayerResult ref = reference.slice_layer(layer, &reference_owner);
+    EXPECT_EQ(owner, reference_owner) << "layer " << layer;
+    EXPECT_TRUE(std::ranges::equal(r.labels.values(), ref.labels.values())) << "layer " << layer;
+    EXPECT_EQ(r.stats.pixels_inside, ref.stats.pixels_inside) << "layer " << layer;
+    candidates += r.stats.candidates;
+    reference_candidates += ref.stats.candidates;
+    inside_pixels += r.stats.pixels_inside;
+  }
+  std::cout << "parametric outlines: " << candidates << " candidates instead of " << reference_candidates << " for "
+            << inside_pixels << " inside pixels\n";
+  EXPECT_GT(inside_pixels, 1000);
+  EXPECT_LT(candidates, reference_candidates);
+  EXPECT_LT(static_cast<double>(candidates), 0.8 * static_cast<double>(reference_candidates));
 }
 
 // Every pixel inside some patch of a multi-patch model is owned by exactly one cell: the last

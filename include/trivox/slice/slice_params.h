@@ -41,6 +41,12 @@ struct SliceParams {
   // whose centres lie within this distance of the outline are decided by the exact inverse;
   // the rest by the outline. A quarter of the finest pixel pitch by default.
   std::optional<double> outline_tolerance_mm;
+  // Cells trimmed "inside" a parametric trim invert only the pixels within the trim's
+  // outline (its tessellation mapped through the cell's volume, cut by the layer, widened by
+  // twice the outline tolerance). Off, every pixel within the cell's own outline is inverted
+  // and then tested: the same output, more inversions (the reference the narrowing is
+  // checked against).
+  bool parametric_outlines = true;
   // The dithering; absent: the scene's "dithering" settings, else DitherParams' defaults.
   std::optional<DitherParams> dither;
 

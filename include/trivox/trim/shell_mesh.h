@@ -38,6 +38,13 @@ class ShellMesh {
   // sample count reaches `max_samples` per direction. Throws ModelError when a surface is
   // not a surface in space (two parameters, three coordinates).
   ShellMesh(const TrimShell& shell, double tolerance, int max_samples = 1024);
+  // The same, refined further until the mesh mapped through `map` (vertex by vertex, as
+  // mapped() does) deviates from the map of the tessellated surfaces by at most
+  // `map_tolerance` at the same test points: a parametric trim's tessellation whose image
+  // through the cell's volume is the trim's outline in model space within `map_tolerance`
+  // mm, so the pixels it decides inside lie inside that outline.
+  ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map, double map_tolerance,
+            int max_samples = 1024);
 
   // Edges used by an odd number of triangles (0 for a closed shell).
   std::size_t open_edges() const noexcept { return open_edges_; }
@@ -52,6 +59,8 @@ class ShellMesh {
 
   // The cross-section at height z: one segment per triangle crossing the plane.
   void cut(double z, std::vector<ShellSegment>& out) const;
+  // Every triangle that meets the slab z0 <= z <= z1, once each (its vertices).
+  void slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out) const;
   // Whether p lies inside by the even-odd rule (see above). Thread-safe.
   bool contains(Vec3 p) const;
 
