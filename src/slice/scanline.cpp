@@ -14,6 +14,15 @@ std::pair<int, int> rows_between(const SliceLayout& L, double ylo, double yhi) {
   return {r0, r1};
 }
 
+// The same, one row wider on each side, for crossing tests that decide themselves: row_of_y
+// is not the exact inverse of y_of_row, so a segment ending exactly on a row's centre line
+// (a vertex of a mesh in the plane y = y_c) could otherwise lose that row, and with it a
+// crossing its neighbour does not count, flipping the parity of the rest of the row.
+std::pair<int, int> rows_near(const SliceLayout& L, double ylo, double yhi) {
+  const auto [r0, r1] = rows_between(L, ylo, yhi);
+  return {std::max(0, r0 - 1), std::min(L.height_px - 1, r1 + 1)};
+}
+
 void add_span(RowSpans& rows, const SliceLayout& L, int row, double xlo, double xhi) {
   const int c0 = std::max(0, static_cast<int>(std::ceil(L.col_of_x(xlo))));
   const int c1 = std::min(L.width_px - 1, static_cast<int>(std::floor(L.col_of_x(xhi))));
@@ -28,7 +37,7 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
   for (const Segment2& s : segments) {
     // Crossings with the row centre lines, by the rule "y >= y_c counts as above" applied
     // to each endpoint, so two segments sharing an endpoint never both count it.
-    const auto [r0, r1] = rows_between(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    const auto [r0, r1] = rows_near(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
     for (int r = r0; r <= r1; ++r) {
       const double yc = L.y_of_row(r);
       if ((s.y0 >= yc) == (s.y1 >= yc)) continue;
@@ -152,7 +161,7 @@ void shell_row_crossings(const std::vector<ShellSegment>& segments, const SliceL
   rows.resize(static_cast<std::size_t>(L.height_px));
   for (auto& r : rows) r.clear();
   for (const ShellSegment& s : segments) {
-    const auto [r0, r1] = rows_between(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    const auto [r0, r1] = rows_near(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
     double x;
     for (int r = r0; r <= r1; ++r)
       if (crosses_row(s, L.y_of_row(r), x)) rows[static_cast<std::size_t>(r)].push_back(x);

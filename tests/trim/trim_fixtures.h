@@ -2,6 +2,7 @@
 // faces, and an independent point-in-solid test (the generalized winding number).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -92,6 +93,66 @@ struct TriangleSoup {
     return sum / (4.0 * std::numbers::pi);
   }
   bool inside(Vec3 p) const { return std::abs(winding(p)) > 0.5; }
+};
+
+// An independent point-in-solid test by vertical rays, a method the slicer does not use (it
+// casts rays along +x within each layer's plane): the heights where the vertical line
+// through (x, y) crosses a triangle soup, found through a grid of xy buckets. A closed
+// surface is crossed an even number of times; a line through a hairline gap of the soup
+// (or exactly through an edge) is crossed an odd number of times, and the caller moves it by
+// a hair. A point is inside when an odd number of crossings lie above it.
+class VerticalRays {
+ public:
+  explicit VerticalRays(std::vector<std::array<Vec3, 3>> triangles) : triangles_(std::move(triangles)) {
+    for (const auto& t : triangles_)
+      for (const Vec3& p : t) {
+        lo_x_ = std::min(lo_x_, p.x);
+        hi_x_ = std::max(hi_x_, p.x);
+        lo_y_ = std::min(lo_y_, p.y);
+        hi_y_ = std::max(hi_y_, p.y);
+      }
+    n_ = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(triangles_.size()) / 4.0)), 1, 2048);
+    cells_.resize(static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_));
+    for (std::size_t k = 0; k < triangles_.size(); ++k) {
+      const auto& t = triangles_[k];
+      const int i0 = cell(std::min({t[0].x, t[1].x, t[2].x}), lo_x_, hi_x_);
+      const int i1 = cell(std::max({t[0].x, t[1].x, t[2].x}), lo_x_, hi_x_);
+      const int j0 = cell(std::min({t[0].y, t[1].y, t[2].y}), lo_y_, hi_y_);
+      const int j1 = cell(std::max({t[0].y, t[1].y, t[2].y}), lo_y_, hi_y_);
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) cells_[static_cast<std::size_t>(j * n_ + i)].push_back(static_cast<int>(k));
+    }
+  }
+
+  // The sorted heights of the crossings; false when their count is odd.
+  bool crossings(double x, double y, std::vector<double>& zs) const {
+    zs.clear();
+    if (x < lo_x_ || x > hi_x_ || y < lo_y_ || y > hi_y_) return true;
+    for (int k : cells_[static_cast<std::size_t>(cell(y, lo_y_, hi_y_) * n_ + cell(x, lo_x_, hi_x_))]) {
+      const auto& t = triangles_[static_cast<std::size_t>(k)];
+      auto edge = [&](const Vec3& a, const Vec3& b) { return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x); };
+      const double e0 = edge(t[1], t[2]), e1 = edge(t[2], t[0]), e2 = edge(t[0], t[1]);
+      const bool pos = e0 > 0 && e1 > 0 && e2 > 0, neg = e0 < 0 && e1 < 0 && e2 < 0;
+      if (!pos && !neg) continue;
+      const double sum = e0 + e1 + e2;
+      zs.push_back((e0 * t[0].z + e1 * t[1].z + e2 * t[2].z) / sum);
+    }
+    std::sort(zs.begin(), zs.end());
+    return zs.size() % 2 == 0;
+  }
+
+  static bool inside(const std::vector<double>& zs, double z) {
+    return (zs.end() - std::upper_bound(zs.begin(), zs.end(), z)) % 2 == 1;
+  }
+
+ private:
+  int cell(double v, double lo, double hi) const {
+    return std::clamp(static_cast<int>((v - lo) / (hi - lo) * n_), 0, n_ - 1);
+  }
+  std::vector<std::array<Vec3, 3>> triangles_;
+  double lo_x_ = 1e300, hi_x_ = -1e300, lo_y_ = 1e300, hi_y_ = -1e300;
+  int n_ = 1;
+  std::vector<std::vector<int>> cells_;
 };
 
 }  // namespace trivox::test
