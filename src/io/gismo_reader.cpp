@@ -96,7 +96,7 @@ Model GismoReader::read() {
   if (std::string_view(root.name()) != "xml")
     ctx_.fail(root, fmt::format("the root element must be <xml>, found <{}>", root.name()));
 
-  Model model{source, {}};
+  Model model{source, {}, {}};
   for (const auto& [geometry, label] : select_patches(root)) {
     const int index = static_cast<int>(model.patches.size());
     int id = index;

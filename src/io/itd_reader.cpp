@@ -1,16 +1,20 @@
 // IRIT text (.itd) reader: CURVE, SURFACE and TRIVAR objects, B-spline or Bezier, Euclidean
 // (E<d>) or rational (P<d>). Everything else IRIT can store (polygons, matrices, strings,
 // instances, multivariates, triangular surfaces...) is skipped as a balanced bracket group.
-// Trimmed surfaces (TRIMSRF, MODEL) contribute their untrimmed surfaces; their trimming
-// curves are skipped.
+// Trimmed surfaces (TRIMSRF, MODEL) contribute their untrimmed surfaces. A MODEL's structure
+// (trimmed surfaces MDLTSRF with loops MDLLOOP of trimming segments MDLTSEG, each segment a
+// curve in the parameters of each surface it borders) is kept in Model::trimmed_models;
+// TRIMSRF trimming curves are skipped.
 //
 // Format reference: IRIT's own parser (prsr_lib/iritprs1.c, bsp_read.c, trivread.c): orders
 // (degree + 1) follow the point counts, a periodic [KVP holds n + 2*order - 1 knots, and
 // rational points are written weight first with pre-multiplied coordinates [w w*x w*y w*z].
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -61,6 +65,9 @@ class ItdParser {
   void parse_item(const Token& open, int depth);
   void parse_object(const Token& open, int depth);
   void parse_trimmed(const Token& open, int depth);
+  void parse_model(const Token& open);
+  void parse_model_surface(const Token& open, TrimmedModel& model, const std::string& where);
+  void parse_model_segment(const Token& open, TrimmedModel& model, const std::string& where);
   void skip_group(const Token& open);
   void read_geometry(const Token& keyword, int param_dim);
   KnotVector read_knots(const std::string& where, int dir, int num_ctrl, int order);
@@ -75,6 +82,7 @@ class ItdParser {
   const std::string& source_;
   std::vector<std::string> names_;  // names of the enclosing objects, outermost first
   std::vector<Patch> patches_;
+  std::vector<TrimmedModel> models_;
 };
 
 // Bracket groups whose first word starts an object body rather than an attribute, so an
@@ -110,7 +118,7 @@ Model ItdParser::parse() {
     p.id = static_cast<int>(i);
     if (uses[p.name] > 1) p.name = fmt::format("{} #{}", p.name, seen[p.name]++);
   }
-  return Model{source_, std::move(patches_)};
+  return Model{source_, std::move(patches_), std::move(models_)};
 }
 
 void ItdParser::parse_item(const Token& open, int depth) {
@@ -121,7 +129,10 @@ void ItdParser::parse_item(const Token& open, int depth) {
   } else if (k.is_keyword("TRIVAR") || k.is_keyword("SURFACE") || k.is_keyword("CURVE")) {
     tok_.next();
     read_geometry(k, k.is_keyword("TRIVAR") ? 3 : (k.is_keyword("SURFACE") ? 2 : 1));
-  } else if (k.is_keyword("TRIMSRF") || k.is_keyword("MODEL")) {
+  } else if (k.is_keyword("MODEL")) {
+    tok_.next();
+    parse_model(open);
+  } else if (k.is_keyword("TRIMSRF")) {
     tok_.next();
     parse_trimmed(open, depth + 1);
   } else {
@@ -179,6 +190,141 @@ void ItdParser::parse_trimmed(const Token& open, int depth) {
       skip_group(t);
     }
   }
+}
+
+// [MODEL n_surfaces n_segments [MDLTSRF ...]* [MDLTSEG ...]* ]; segment and surface
+// references are 1-based in the file, 0-based once read.
+void ItdParser::parse_model(const Token& open) {
+  const std::string where = fmt::format("MODEL in object '{}'", object_name());
+  TrimmedModel model;
+  model.name = object_name();
+  model.source_line = open.line;
+  const int num_surfaces = read_int(where, "number of trimmed surfaces", 0, 10'000'000);
+  const int num_segments = read_int(where, "number of trimming segments", 0, 10'000'000);
+  for (;;) {
+    const Token t = tok_.next();
+    if (t.is_close()) break;
+    if (t.is_end()) fail_eof(where, open);
+    if (!t.is_open()) fail(t.line, where, fmt::format("unexpected {} in the MODEL: expected '[' or ']'", itd::describe(t)));
+    const Token k = tok_.peek();
+    if (k.is_keyword("MDLTSRF")) {
+      tok_.next();
+      parse_model_surface(t, model, where);
+    } else if (k.is_keyword("MDLTSEG")) {
+      tok_.next();
+      parse_model_segment(t, model, where);
+    } else {
+      skip_group(t);
+    }
+  }
+  if (static_cast<int>(model.surfaces.size()) != num_surfaces)
+    fail(open.line, where, fmt::format("the MODEL declares {} trimmed surfaces (MDLTSRF) and holds {}", num_surfaces,
+                                       model.surfaces.size()));
+  if (static_cast<int>(model.segments.size()) != num_segments)
+    fail(open.line, where, fmt::format("the MODEL declares {} trimming segments (MDLTSEG) and holds {}", num_segments,
+                                       model.segments.size()));
+  for (std::size_t g = 0; g < model.segments.size(); ++g) {
+    TrimmedModel::Segment& seg = model.segments[g];
+    for (int& srf : seg.surfaces) {
+      if (srf < 1 || srf > num_surfaces)
+        fail(seg.source_line, where, fmt::format("trimming segment {} borders surface {}, but the MODEL's surfaces are "
+                                                 "1..{}", g + 1, srf, num_surfaces));
+      --srf;
+    }
+  }
+  for (std::size_t i = 0; i < model.surfaces.size(); ++i)
+    for (const auto& loop : model.surfaces[i].loops)
+      for (int ref : loop) {
+        const int g = std::abs(ref);
+        if (g < 1 || g > num_segments)
+          fail(model.surfaces[i].source_line, where,
+               fmt::format("a loop of trimmed surface {} refers to segment {}, but the MODEL's segments are 1..{}", i + 1,
+                           ref, num_segments));
+        const auto& borders = model.segments[static_cast<std::size_t>(g - 1)].surfaces;
+        if (std::find(borders.begin(), borders.end(), static_cast<int>(i)) == borders.end())
+          fail(model.surfaces[i].source_line, where,
+               fmt::format("a loop of trimmed surface {} uses segment {}, which does not border that surface", i + 1, g));
+      }
+  models_.push_back(std::move(model));
+}
+
+// [MDLTSRF n_loops [SURFACE ...] [MDLLOOP ref ...]* ]
+void ItdParser::parse_model_surface(const Token& open, TrimmedModel& model, const std::string& where) {
+  const std::string here = fmt::format("{}, trimmed surface {}", where, model.surfaces.size() + 1);
+  TrimmedModel::Surface srf;
+  srf.source_line = open.line;
+  const int num_loops = read_int(here, "number of loops", 0, 10'000'000);
+  for (;;) {
+    const Token t = tok_.next();
+    if (t.is_close()) break;
+    if (t.is_end()) fail_eof(here, open);
+    if (!t.is_open()) fail(t.line, here, fmt::format("unexpected {}: expected '[' or ']'", itd::describe(t)));
+    const Token k = tok_.peek();
+    if (k.is_keyword("SURFACE")) {
+      tok_.next();
+      if (srf.patch >= 0) fail(k.line, here, "a trimmed surface (MDLTSRF) holds one SURFACE; this is a second");
+      read_geometry(k, 2);
+      srf.patch = static_cast<int>(patches_.size()) - 1;
+    } else if (k.is_keyword("MDLLOOP")) {
+      tok_.next();
+      std::vector<int> loop;
+      for (;;) {
+        const Token r = tok_.next();
+        if (r.is_close()) break;
+        if (r.is_end()) fail_eof(here, t);
+        const auto v = r.is_word() ? io_detail::parse_integer(r.text) : std::nullopt;
+        if (!v || *v == 0 || *v > 10'000'000 || *v < -10'000'000)
+          fail(r.line, here, fmt::format("a loop (MDLLOOP) lists segment numbers (1-based, negative for reversed), "
+                                         "found {}", itd::describe(r)));
+        loop.push_back(static_cast<int>(*v));
+      }
+      if (loop.empty()) fail(t.line, here, "a loop (MDLLOOP) lists no segment");
+      srf.loops.push_back(std::move(loop));
+    } else {
+      skip_group(t);
+    }
+  }
+  if (srf.patch < 0) fail(open.line, here, "a trimmed surface (MDLTSRF) holds no SURFACE");
+  if (static_cast<int>(srf.loops.size()) != num_loops)
+    fail(open.line, here, fmt::format("declares {} loops and holds {}", num_loops, srf.loops.size()));
+  model.surfaces.push_back(std::move(srf));
+}
+
+// [MDLTSEG flags surface_1 surface_2 [CURVE ...] [CURVE ...]? ]: surface_2 is 0 for a
+// segment on one surface only, which then has one curve.
+void ItdParser::parse_model_segment(const Token& open, TrimmedModel& model, const std::string& where) {
+  const std::string here = fmt::format("{}, trimming segment {}", where, model.segments.size() + 1);
+  TrimmedModel::Segment seg;
+  seg.source_line = open.line;
+  read_int(here, "segment flags", 0, 1'000'000);
+  const int first = read_int(here, "first surface", 0, 10'000'000);
+  const int second = read_int(here, "second surface", 0, 10'000'000);
+  if (first == 0) fail(open.line, here, "the first surface of a trimming segment must be given (1-based)");
+  seg.surfaces.push_back(first);
+  if (second != 0) seg.surfaces.push_back(second);
+  for (;;) {
+    const Token t = tok_.next();
+    if (t.is_close()) break;
+    if (t.is_end()) fail_eof(here, open);
+    if (!t.is_open()) fail(t.line, here, fmt::format("unexpected {}: expected '[' or ']'", itd::describe(t)));
+    const Token k = tok_.peek();
+    if (k.is_keyword("CURVE")) {
+      tok_.next();
+      read_geometry(k, 1);
+      TensorSpline curve = std::move(patches_.back().spline);
+      patches_.pop_back();
+      if (curve.point_dim() != 2)
+        fail(k.line, here, fmt::format("a trimming curve lies in a surface's parameter space (2 coordinates), this one "
+                                       "has {}", curve.point_dim()));
+      seg.curves.push_back(std::move(curve));
+    } else {
+      skip_group(t);
+    }
+  }
+  if (seg.curves.size() != seg.surfaces.size())
+    fail(open.line, here, fmt::format("the segment borders {} surface(s) and holds {} curve(s); it needs one curve per "
+                                      "surface", seg.surfaces.size(), seg.curves.size()));
+  model.segments.push_back(std::move(seg));
 }
 
 // Consumes a bracket group whose '[' was read, whatever it holds. Iterative, so deep

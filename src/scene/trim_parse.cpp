@@ -1,5 +1,7 @@
 // Named volumes and trims of a scene (docs/SCENE.md, "Volumes" and "Trimmed cells"): the
 // clauses of a cell's "trim" and the closed shells they name.
+#include <algorithm>
+#include <cstdlib>
 #include <limits>
 
 #include <fmt/format.h>
@@ -62,15 +64,47 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
   if (file.has_value() == list.has_value()) node.fail("give the shell's surfaces either as \"file\" or as \"surfaces\"");
   if (file) {
     shell->name = fmt::format("\"{}\"", file->string());
-    for (const Patch& p : ctx.model(*file).patches)
-      if (p.spline.param_dim() == 2) shell->surfaces.push_back(p.spline);
-    if (shell->surfaces.empty()) file->fail(fmt::format("the file \"{}\" holds no surface", file->string()));
+    const Model& model = ctx.model(*file);
+    if (!model.trimmed_models.empty()) {
+      // A trimmed-surface model (IRIT MODEL): its trimmed surfaces, each restricted to its
+      // loops; the other surfaces of the file are not part of the shell.
+      int segment_base = 0;
+      for (const TrimmedModel& m : model.trimmed_models) {
+        for (std::size_t i = 0; i < m.surfaces.size(); ++i) {
+          const TrimmedModel::Surface& srf = m.surfaces[i];
+          TrimmedSurface t{fmt::format("MODEL '{}' (line {}), trimmed surface {} (line {})", m.name, m.source_line,
+                                       i + 1, srf.source_line),
+                           model.patches[static_cast<std::size_t>(srf.patch)].spline, {}};
+          for (const auto& loop : srf.loops) {
+            std::vector<TrimmedSurface::Piece> pieces;
+            for (int ref : loop) {
+              const auto g = static_cast<std::size_t>(std::abs(ref) - 1);
+              const TrimmedModel::Segment& seg = m.segments[g];
+              // The reader checked that the segment borders this surface.
+              const auto side = static_cast<std::size_t>(
+                  std::find(seg.surfaces.begin(), seg.surfaces.end(), static_cast<int>(i)) - seg.surfaces.begin());
+              pieces.push_back({seg.curves[side], ref < 0, segment_base + static_cast<int>(g)});
+            }
+            t.loops.push_back(std::move(pieces));
+          }
+          shell->trimmed.push_back(std::move(t));
+        }
+        segment_base += static_cast<int>(m.segments.size());
+      }
+    } else {
+      for (const Patch& p : model.patches)
+        if (p.spline.param_dim() == 2) shell->surfaces.push_back(p.spline);
+    }
+    if (shell->surfaces.empty() && shell->trimmed.empty())
+      file->fail(fmt::format("the file \"{}\" holds no surface", file->string()));
   } else {
     shell->name = fmt::format("the surfaces at {}", list->pointer());
     for (const JsonView& e : list->elements(1)) shell->surfaces.push_back(parse_curve_or_surface(e, ctx, 2));
   }
-  if (const auto p = node.find("placement"))
+  if (const auto p = node.find("placement")) {
     for (TensorSpline& s : shell->surfaces) s = parse_and_apply_placement(*p, s);
+    for (TrimmedSurface& t : shell->trimmed) t.surface = parse_and_apply_placement(*p, t.surface);
+  }
   // Closed or not is a matter of topology, so the coarsest sampling tells.
   try {
     const ShellMesh mesh(*shell, std::numeric_limits<double>::infinity());

@@ -232,9 +232,13 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       if (k.kind == TrimKind::kVolume)
         in = trims.inside[static_cast<std::size_t>(k.trivariate)][static_cast<std::size_t>(row) * width +
                                                                   static_cast<std::size_t>(col)] != 0;
-      else if (k.kind == TrimKind::kShell)
-        in = detail::inside_crossings(trims.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)],
-                                      L.x_of_col(col));
+      else if (k.kind == TrimKind::kShell) {
+        const auto& xs = trims.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
+        // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
+        // times: its pixels are decided by the shell's vote (shell_mesh.h).
+        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), st.z_mm})
+                                                             : detail::inside_crossings(xs, L.x_of_col(col));
+      }
       else
         continue;
       if (in != (k.side == TrimSide::kInside)) return false;

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "trim/trimmed_tessellation.h"
 #include "trivox/error.h"
 
 namespace trivox {
@@ -99,7 +100,12 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples)
 ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map,
                      double map_tolerance, int max_samples) {
   const Map* mapping = map ? &map : nullptr;
-  if (shell.surfaces.empty()) throw ModelError(fmt::format("{}: the shell has no surface", shell.name));
+  if (shell.surfaces.empty() && shell.trimmed.empty())
+    throw ModelError(fmt::format("{}: the shell has no surface", shell.name));
+  if (!shell.trimmed.empty()) {
+    build_trimmed(shell, tolerance, mapping, map_tolerance, max_samples);
+    return;
+  }
   int n = 3;
   for (std::size_t i = 0; i < shell.surfaces.size(); ++i) {
     const TensorSpline& s = shell.surfaces[i];
@@ -184,11 +190,50 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
   build_index();
 }
 
+void ShellMesh::build_trimmed(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>* map,
+                              double map_tolerance, int max_samples) {
+  gap_tolerant_ = true;
+  std::vector<const TensorSpline*> all;
+  for (const TensorSpline& s : shell.surfaces) all.push_back(&s);
+  for (const TrimmedSurface& t : shell.trimmed) all.push_back(&t.surface);
+  for (const TensorSpline* s : all)
+    if (s->param_dim() != 2 || s->point_dim() != 3)
+      throw ModelError(fmt::format("{}: a surface has {} parameter(s) and {} coordinate(s); a shell takes surfaces in "
+                                   "space (2 and 3)", shell.name, s->param_dim(), s->point_dim()));
+  // One sample count for all, as for a welded shell (the seams share no vertices here).
+  int n = 3;
+  for (const TensorSpline* s : all)
+    for (int d = 0; d < 2; ++d)
+      n = std::max(n, 2 * (static_cast<int>(s->knots(d).interior_breaks().size()) + 1) + 1);
+  n = std::min(n, max_samples);
+  while (n < max_samples) {
+    double worst = 0, worst_mapped = 0;
+    for (const TensorSpline* s : all) {
+      const auto [d, dm] = deviation(*s, n, map);
+      worst = std::max(worst, d);
+      worst_mapped = std::max(worst_mapped, dm);
+    }
+    if (worst <= tolerance && worst_mapped <= map_tolerance) break;
+    n = std::min(max_samples, 2 * n - 1);
+  }
+  samples_ = n;
+  for (const TensorSpline& s : shell.surfaces) {
+    const TrimmedSurface whole{shell.name, s, {}};
+    detail::tessellate_trimmed(whole, n, vertices_, triangles_);
+  }
+  for (const TrimmedSurface& t : shell.trimmed) detail::tessellate_trimmed(t, n, vertices_, triangles_);
+  for (const Vec3& v : vertices_) bounds_.expand(v);
+  seam_gap_ = detail::check_trimmed_closed(shell, 1e-3 * norm(bounds_.hi - bounds_.lo));
+  build_index();
+}
+
 ShellMesh ShellMesh::mapped(const std::function<Vec3(Vec3)>& map) const {
   ShellMesh m;
   m.samples_ = samples_;
   m.triangles_ = triangles_;
   m.open_edges_ = open_edges_;
+  m.gap_tolerant_ = gap_tolerant_;
+  m.seam_gap_ = seam_gap_;
   m.vertices_.reserve(vertices_.size());
   for (const Vec3& v : vertices_) {
     m.vertices_.push_back(map(v));
@@ -273,7 +318,50 @@ void ShellMesh::slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out
     }
 }
 
+bool ShellMesh::line_parity(Vec3 p, double dx, double dy, bool& even) const {
+  const int b = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dz_)), 0, nz_ - 1);
+  int beyond = 0, total = 0;
+  ShellSegment s;
+  for (int tri : z_buckets_[static_cast<std::size_t>(b)]) {
+    if (!cut_triangle(tri, p.z, s)) continue;
+    // Signed distances from the line, with the tie rule "on the line counts as above".
+    const double s0 = -dy * (s.x0 - p.x) + dx * (s.y0 - p.y), s1 = -dy * (s.x1 - p.x) + dx * (s.y1 - p.y);
+    if ((s0 >= 0) == (s1 >= 0)) continue;
+    const double f = s0 / (s0 - s1);
+    const double t = dx * (s.x0 + f * (s.x1 - s.x0) - p.x) + dy * (s.y0 + f * (s.y1 - s.y0) - p.y);
+    ++total;
+    if (t > 0) ++beyond;
+  }
+  even = total % 2 == 0;
+  return beyond % 2 == 1;
+}
+
 bool ShellMesh::contains(Vec3 p) const {
+  if (gap_tolerant_) {
+    if (z_buckets_.empty() || !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y &&
+                                p.y <= bounds_.hi.y && p.x >= bounds_.lo.x && p.x <= bounds_.hi.x))
+      return false;
+    // Along x by the rule of the rows (crosses_row), then y and the diagonals.
+    const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
+    const int iz = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dzc)), 0, ny_ - 1);
+    const int iy = std::clamp(static_cast<int>(std::floor((p.y - y0_) / dy_)), 0, ny_ - 1);
+    int beyond = 0, total = 0;
+    ShellSegment s;
+    double x;
+    for (int tri : yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
+      if (cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x)) {
+        ++total;
+        if (x > p.x) ++beyond;
+      }
+    if (total % 2 == 0) return beyond % 2 == 1;
+    const double h = std::sqrt(0.5);
+    for (const auto& [dx, dy] : {std::pair{0.0, 1.0}, std::pair{h, h}, std::pair{h, -h}}) {
+      bool even = false;
+      const bool in = line_parity(p, dx, dy, even);
+      if (even) return in;
+    }
+    return beyond % 2 == 1;
+  }
   if (yz_cells_.empty() || !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y && p.y <= bounds_.hi.y) ||
       p.x > bounds_.hi.x)
     return false;

@@ -171,9 +171,9 @@ TEST(ItdWriter, RoundTripsEveryFixture) {
 TEST(ItdWriter, RoundTripsDigitsThatNeedSeventeenPlaces) {
   const double third = 1.0 / 3.0, tiny = 4.898587196589413e-17, big = 1.2345678901234567e300;
   const TensorSpline s({KnotVector(2, {0, 0, third, 1, 1})}, 2, {third, tiny, big, -third, 0.1, 0.7});
-  expect_round_trip(Model{"digits", {Patch{"D", 0, 0, s}}});
+  expect_round_trip(Model{"digits", {Patch{"D", 0, 0, s}}, {}});
   const TensorSpline r({KnotVector(2, {0, 0, 1, 1})}, 3, {third, tiny, 0.1, 0.2, 0.3, 0.7}, {0.7, 3.0});
-  expect_round_trip(Model{"digits", {Patch{"R", 0, 0, r}}});
+  expect_round_trip(Model{"digits", {Patch{"R", 0, 0, r}}, {}});
 }
 
 TEST(ItdWriter, WritesKvpWeightFirstAndSingleWordNames) {
@@ -195,7 +195,7 @@ TEST(ItdWriter, WritesKvpWeightFirstAndSingleWordNames) {
 TEST(ItdWriter, RejectsPointsIritCannotHold) {
   const TensorSpline s({KnotVector::bezier(2)}, 10, std::vector<double>(20, 1.0));
   std::ostringstream out;
-  EXPECT_THROW(write_itd(out, Model{"wide", {Patch{"W", 0, 0, s}}}), ModelError);
+  EXPECT_THROW(write_itd(out, Model{"wide", {Patch{"W", 0, 0, s}}, {}}), ModelError);
   EXPECT_TRUE(out.str().empty());  // nothing half-written
 }
 

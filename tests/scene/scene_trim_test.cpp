@@ -110,5 +110,40 @@ TEST(SceneTrim, DuckShellReads) {
   EXPECT_EQ(s.cells[0].trim.clauses[0].shell->surfaces.size(), 6u);
 }
 
+TEST(SceneTrim, TrimmedModelShellReadsAndAnOpenOneNamesTheSurfaceAndSegment) {
+  // A square trimmed out of a plane: a surface, not a closed shell.
+  const auto dir = test::scratch_dir();
+  test::write_file(dir / "square.itd", R"([OBJECT SQUARE
+  [MODEL 1 2
+    [MDLTSRF 1
+      [SURFACE BSPLINE 2 2 2 2 E3 [KV 0 0 1 1] [KV 0 0 1 1] [0 0 0] [1 0 0] [0 1 0] [1 1 0]]
+      [MDLLOOP 1 2]
+    ]
+    [MDLTSEG 1 1 0 [CURVE BSPLINE 3 2 E2 [KV 0 0 1 2 2] [0.2 0.2] [0.8 0.2] [0.8 0.8]]]
+    [MDLTSEG 1 1 0 [CURVE BSPLINE 2 2 E2 [KV 0 0 1 1] [0.8 0.8] [0.2 0.2]]]
+  ]
+]
+)");
+  test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "shell": {"file": "square.itd"}}]}])"),
+                           "/cells/0/trim/0/shell",
+                           "MODEL 'SQUARE' (line 2), trimmed surface 1 (line 3): trimming segment 1 borders one surface "
+                           "and no other segment lies near it",
+                           dir);
+  const auto shared = test::shared_data_dir();
+  if (shared.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const std::string file = (shared / "surfaces" / "teapot_trimmed_model.itd").string();
+  const Scene s = parse_scene(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+      "shell": {"file": ")" + file + R"("}}]}])"),
+                              "scene.json");
+  const TrimShell& shell = *s.cells[0].trim.clauses[0].shell;
+  EXPECT_TRUE(shell.surfaces.empty());
+  ASSERT_EQ(shell.trimmed.size(), 6u);
+  EXPECT_EQ(shell.trimmed[0].loops.size(), 3u);
+  EXPECT_EQ(shell.trimmed[0].loops[2].size(), 8u);
+  EXPECT_TRUE(shell.trimmed[0].loops[2][1].reversed);  // segment -7
+  EXPECT_EQ(shell.trimmed[0].loops[2][1].segment, 6);
+}
+
 }  // namespace
 }  // namespace trivox

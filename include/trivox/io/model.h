@@ -19,9 +19,33 @@ struct Patch {
   TensorSpline spline;
 };
 
+// An IRIT trimmed-surface model (MODEL): surfaces restricted to loops of trimming segments,
+// each segment a curve in the parameter space of the one or two surfaces it borders.
+struct TrimmedModel {
+  struct Surface {
+    int source_line = 0;
+    int patch = -1;  // index of the untrimmed surface in Model::patches
+    // Loops of segment references: k >= 1 is segment k - 1 as stored, -k the same reversed.
+    std::vector<std::vector<int>> loops;
+  };
+  struct Segment {
+    int source_line = 0;
+    // The surfaces (indices into `surfaces`) it borders: one, or two for a segment shared by
+    // two surfaces; curves[i] lies in the parameter space of surfaces[i].
+    std::vector<int> surfaces;
+    std::vector<TensorSpline> curves;
+  };
+  std::string name;  // the enclosing object's name
+  int source_line = 0;
+  std::vector<Surface> surfaces;
+  std::vector<Segment> segments;
+};
+
 struct Model {
   std::string source;          // the file it was read from (as given)
   std::vector<Patch> patches;  // in document order
+  // IRIT MODEL objects (their untrimmed surfaces are also in `patches`).
+  std::vector<TrimmedModel> trimmed_models;
 
   // Indices of the patches with param_dim 3 (trivariates).
   std::vector<int> volume_indices() const;

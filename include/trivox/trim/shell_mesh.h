@@ -14,6 +14,17 @@
 // cut it at bit-identical points, so a point is never counted in or out twice, whatever
 // degenerate position it takes. The slicer uses the same cut per layer (cut()) and the same
 // crossing rule per row, so its pixels and contains() agree.
+//
+// A shell with trimmed surfaces (an IRIT MODEL) cannot be welded: its surfaces meet only
+// within the accuracy of their trimming curves, so its mesh has hairline gaps along the
+// seams. Such a mesh is "gap tolerant": the constructor checks that every seam closes within
+// 1e-3 of the shell's size (and throws ModelError naming the surface and the segment
+// otherwise), and contains() votes: it counts the crossings of the whole line through p in
+// the plane of constant z along x, then along y and the two diagonals, and the first line
+// crossed an even number of times decides by the parity beyond p. A line through a gap
+// is crossed an odd number of times and loses its vote, so a point is misjudged only when
+// all four lines pass through gaps, that is within the gap's width of the surface. The
+// slicer does the same: a row crossed an odd number of times asks contains() per pixel.
 #pragma once
 
 #include <array>
@@ -46,7 +57,12 @@ class ShellMesh {
   ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map, double map_tolerance,
             int max_samples = 1024);
 
-  // Edges used by an odd number of triangles (0 for a closed shell).
+  // Whether the shell has trimmed surfaces and is decided by the vote above.
+  bool gap_tolerant() const noexcept { return gap_tolerant_; }
+  // The largest distance between the two sides of a seam (0 unless gap tolerant).
+  double seam_gap() const noexcept { return seam_gap_; }
+  // Edges used by an odd number of triangles (0 for a closed shell; not counted for a gap
+  // tolerant one, which is checked by its seams).
   std::size_t open_edges() const noexcept { return open_edges_; }
   std::size_t triangle_count() const noexcept { return triangles_.size(); }
   std::size_t vertex_count() const noexcept { return vertices_.size(); }
@@ -67,10 +83,17 @@ class ShellMesh {
  private:
   ShellMesh() = default;
   void build_index();
+  void build_trimmed(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>* map,
+                     double map_tolerance, int max_samples);
   // The segment where triangle t crosses the plane z; false when it does not.
   bool cut_triangle(int t, double z, ShellSegment& s) const;
 
+  // Parity of the crossings beyond p of the line through p along (dx, dy) in the plane z =
+  // p.z; false in `even` when the whole line is crossed an odd number of times.
+  bool line_parity(Vec3 p, double dx, double dy, bool& even) const;
   int samples_ = 0;
+  bool gap_tolerant_ = false;
+  double seam_gap_ = 0;
   std::vector<Vec3> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::size_t open_edges_ = 0;

@@ -28,9 +28,25 @@ std::string_view to_string(TrimKind k) noexcept;
 // A closed set of surfaces (two parameters, three coordinates each): model space (mm) for a
 // shell trim, the (u, v, w) of the cell's volume for a parametric trim. Closed means the
 // surfaces meet along their edges with no gap (shell_mesh.h checks it).
+// A surface restricted to loops of curves in its parameter space (a trimmed surface of an
+// IRIT MODEL). The kept part is the even-odd interior of the loops.
+struct TrimmedSurface {
+  struct Piece {
+    TensorSpline curve;  // in the surface's (u, v), two coordinates
+    bool reversed = false;
+    int segment = -1;  // the trimming segment it comes from, shared by the surfaces it borders
+  };
+  std::string name;  // for messages, e.g. "MODEL 'TEAPOT', trimmed surface 2"
+  TensorSpline surface;
+  std::vector<std::vector<Piece>> loops;
+};
+
 struct TrimShell {
   std::string name;  // for messages: the file it came from, or the scene pointer
   std::vector<TensorSpline> surfaces;
+  // Trimmed surfaces. Their tessellations meet only within the accuracy of the trimming
+  // curves, so a shell with any is decided by a test robust to hairline gaps (shell_mesh.h).
+  std::vector<TrimmedSurface> trimmed;
 };
 
 struct TrimClause {
