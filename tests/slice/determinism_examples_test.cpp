@@ -38,8 +38,8 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
 const std::vector<std::string>& example_scenes() {
   static const std::vector<std::string> names = {
       "boolean_pair", "box_gradient", "chalice", "column_scalar_gradient", "cylinder_sector_curves",
-      "dithering_skin", "duck_trimmed_box", "expression_layers", "quick_start", "texture_composition",
-      "twisted_column_porous"};
+      "dithering_skin", "duck_trimmed_box", "expression_layers", "quick_start", "teapot_trimmed_box",
+      "texture_composition", "twisted_column_porous"};
   return names;
 }
 
@@ -56,7 +56,7 @@ class DeterminismOfExample : public ::testing::TestWithParam<std::string> {};
 TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
   const fs::path path = fs::path(TRIVOX_EXAMPLES_DIR) / "scenes" / (GetParam() + ".json");
   {
-    // Examples that read ../shared (the duck shell) need it beside the repository.
+    // Examples that read ../shared (the duck and teapot shells) need it beside the repository.
     std::ifstream in(path);
     const std::string text{std::istreambuf_iterator<char>(in), {}};
     if (text.find("/shared/data/") != std::string::npos && test::shared_data_dir().empty())

@@ -16,6 +16,7 @@
 #include "trivox/io/model.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/slicer.h"
+#include "trivox/trim/shell_mesh.h"
 
 namespace trivox {
 namespace {
@@ -75,6 +76,14 @@ TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndS
   if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
   const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "scenes" / "teapot_trimmed_box.json");
   const Slicer slicer(scene, {});
+  // The seams close within the allowed gap (1e-3 of the size).
+  const ShellMesh mesh(*scene.cells.at(0).trim.clauses.at(0).shell, 0.01);
+  EXPECT_TRUE(mesh.gap_tolerant());
+  const double size = norm(mesh.bounds().hi - mesh.bounds().lo);
+  std::cout << "teapot shell: " << mesh.triangle_count() << " triangles, seams within " << mesh.seam_gap() << " mm ("
+            << mesh.seam_gap() / size << " of its size)\n";
+  EXPECT_GT(mesh.seam_gap(), 0.0);  // the trimming curves are fitted, so the seams do not meet exactly
+  EXPECT_LT(mesh.seam_gap(), 5e-4 * size);
   const SliceLayout& L = slicer.layout();
   const Model model = read_model(dir / "surfaces" / "teapot_trimmed_model.itd");
   const test::VerticalRays rays(teapot_soup(model, 400));
