@@ -240,10 +240,6 @@ void ItdParser::parse_model(const Token& open) {
           fail(model.surfaces[i].source_line, where,
                fmt::format("a loop of trimmed surface {} refers to segment {}, but the MODEL's segments are 1..{}", i + 1,
                            ref, num_segments));
-        const auto& borders = model.segments[static_cast<std::size_t>(g - 1)].surfaces;
-        if (std::find(borders.begin(), borders.end(), static_cast<int>(i)) == borders.end())
-          fail(model.surfaces[i].source_line, where,
-               fmt::format("a loop of trimmed surface {} uses segment {}, which does not border that surface", i + 1, g));
       }
   models_.push_back(std::move(model));
 }
@@ -290,18 +286,20 @@ void ItdParser::parse_model_surface(const Token& open, TrimmedModel& model, cons
   model.surfaces.push_back(std::move(srf));
 }
 
-// [MDLTSEG flags surface_1 surface_2 [CURVE ...] [CURVE ...]? ]: surface_2 is 0 for a
-// segment on one surface only, which then has one curve.
+// [MDLTSEG mask surface_1 surface_2 [CURVE ...]* ]: the mask's bits say which curves follow,
+// in this order: 1 the curve in surface_1's (u, v), 2 the one in surface_2's, 4 the curve in
+// space (IRIT's prsr_lib). surface_2 is 0 for a segment on one surface only.
 void ItdParser::parse_model_segment(const Token& open, TrimmedModel& model, const std::string& where) {
   const std::string here = fmt::format("{}, trimming segment {}", where, model.segments.size() + 1);
   TrimmedModel::Segment seg;
   seg.source_line = open.line;
-  read_int(here, "segment flags", 0, 1'000'000);
+  const int mask = read_int(here, "curve mask", 0, 7);
   const int first = read_int(here, "first surface", 0, 10'000'000);
   const int second = read_int(here, "second surface", 0, 10'000'000);
-  if (first == 0) fail(open.line, here, "the first surface of a trimming segment must be given (1-based)");
-  seg.surfaces.push_back(first);
-  if (second != 0) seg.surfaces.push_back(second);
+  if ((mask & 1) && first == 0) fail(open.line, here, "the curve mask has a curve in the first surface, which is 0");
+  if ((mask & 2) && second == 0) fail(open.line, here, "the curve mask has a curve in the second surface, which is 0");
+  std::vector<TensorSpline> curves;
+  std::vector<int> lines;
   for (;;) {
     const Token t = tok_.next();
     if (t.is_close()) break;
@@ -311,19 +309,27 @@ void ItdParser::parse_model_segment(const Token& open, TrimmedModel& model, cons
     if (k.is_keyword("CURVE")) {
       tok_.next();
       read_geometry(k, 1);
-      TensorSpline curve = std::move(patches_.back().spline);
+      curves.push_back(std::move(patches_.back().spline));
+      lines.push_back(k.line);
       patches_.pop_back();
-      if (curve.point_dim() != 2)
-        fail(k.line, here, fmt::format("a trimming curve lies in a surface's parameter space (2 coordinates), this one "
-                                       "has {}", curve.point_dim()));
-      seg.curves.push_back(std::move(curve));
     } else {
       skip_group(t);
     }
   }
-  if (seg.curves.size() != seg.surfaces.size())
-    fail(open.line, here, fmt::format("the segment borders {} surface(s) and holds {} curve(s); it needs one curve per "
-                                      "surface", seg.surfaces.size(), seg.curves.size()));
+  const int expected = (mask & 1) + ((mask >> 1) & 1) + ((mask >> 2) & 1);
+  if (static_cast<int>(curves.size()) != expected)
+    fail(open.line, here, fmt::format("the curve mask {} announces {} curve(s) (1: in the first surface's (u, v), 2: in "
+                                      "the second's, 4: in space) and the segment holds {}",
+                                      mask, expected, curves.size()));
+  std::size_t next = 0;
+  for (const auto& [bit, surface] : {std::pair{1, first}, std::pair{2, second}}) {
+    if (!(mask & bit)) continue;
+    if (curves[next].point_dim() != 2)
+      fail(lines[next], here, fmt::format("a trimming curve lies in a surface's parameter space (2 coordinates), this "
+                                          "one has {}", curves[next].point_dim()));
+    seg.surfaces.push_back(surface);
+    seg.curves.push_back(std::move(curves[next++]));
+  }
   model.segments.push_back(std::move(seg));
 }
 

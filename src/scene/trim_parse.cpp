@@ -80,9 +80,11 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
             for (int ref : loop) {
               const auto g = static_cast<std::size_t>(std::abs(ref) - 1);
               const TrimmedModel::Segment& seg = m.segments[g];
-              // The reader checked that the segment borders this surface.
               const auto side = static_cast<std::size_t>(
                   std::find(seg.surfaces.begin(), seg.surfaces.end(), static_cast<int>(i)) - seg.surfaces.begin());
+              if (side == seg.surfaces.size())
+                file->fail(fmt::format("{}: a loop uses segment {} (line {}), which has no curve in this surface's "
+                                       "(u, v)", t.name, g + 1, seg.source_line));
               pieces.push_back({seg.curves[side], ref < 0, segment_base + static_cast<int>(g)});
             }
             t.loops.push_back(std::move(pieces));

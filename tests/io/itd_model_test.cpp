@@ -57,7 +57,7 @@ TEST(ItdModel, BrokenModelsNameTheLineAndTheRule) {
   expect_error(square_model("1 0 3 4"), 5, "lists segment numbers");
   expect_error(square_model("1 2 3 4", "1 7 0"), 10, "borders surface 7, but the MODEL's surfaces are 1..1");
   std::string two_sided = square_model("1 2 3 4", "3 1 1");
-  expect_error(two_sided, 10, "holds 1 curve(s); it needs one curve per surface");
+  expect_error(two_sided, 10, "the curve mask 3 announces 2 curve(s)");
   std::string miscounted = square_model();
   miscounted.replace(miscounted.find("MODEL 1 4"), 9, "MODEL 1 5");
   expect_error(miscounted, 2, "declares 5 trimming segments (MDLTSEG) and holds 4");

@@ -30,8 +30,9 @@ struct TrimmedModel {
   };
   struct Segment {
     int source_line = 0;
-    // The surfaces (indices into `surfaces`) it borders: one, or two for a segment shared by
-    // two surfaces; curves[i] lies in the parameter space of surfaces[i].
+    // The surfaces (indices into `surfaces`) it has a curve in: one, or two for a segment
+    // shared by two surfaces; curves[i] lies in the parameter space of surfaces[i]. (A curve
+    // in space, which IRIT may store as well, is not kept.)
     std::vector<int> surfaces;
     std::vector<TensorSpline> curves;
   };
