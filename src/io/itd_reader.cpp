@@ -65,7 +65,10 @@ class ItdParser {
   void parse_item(const Token& open, int depth);
   void parse_object(const Token& open, int depth);
   void parse_trimmed(const Token& open, int depth);
-  void parse_model(const Token& open);
+  // Kept out of parse_item, which recurses once per nested object: inlined there, a MODEL's
+  // locals would grow every level's stack frame (AddressSanitizer's frames overflowed the
+  // stack before the nesting limit).
+  [[gnu::noinline]] void parse_model(const Token& open);
   void parse_model_surface(const Token& open, TrimmedModel& model, const std::string& where);
   void parse_model_segment(const Token& open, TrimmedModel& model, const std::string& where);
   void skip_group(const Token& open);

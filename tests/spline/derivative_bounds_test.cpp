@@ -1,6 +1,7 @@
 // Second-derivative bounds of polynomial volumes, and the Newton-step certificate built on
 // them (invert_from_neighbour's one-evaluation path).
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -109,7 +110,12 @@ TEST(SecondDerivativeBounds, CertifiedStepsMeetTheTolerance) {
         const double truth = norm(v.evaluate(r.uvw) - x);
         EXPECT_LE(truth, params.residual_tolerance_model);
         EXPECT_LE(r.residual, params.residual_tolerance_model);
-        EXPECT_GE(r.residual, truth * (1 - 1e-9)) << "the reported residual must bound the true one";
+        // Up to the rounding of the coordinates themselves: an evaluated residual comes from
+        // the value-and-Jacobian kernel, `truth` from the value kernel, and the two may round
+        // the point differently by a few ulps of its coordinates (they do under the
+        // sanitizers' build, where the compiler contracts differently).
+        const double rounding = 64 * std::numeric_limits<double>::epsilon() * norm(x);
+        EXPECT_GE(r.residual, truth * (1 - 1e-9) - rounding) << "the reported residual must bound the true one";
         (r.iterations == 1 ? certified : evaluated) += 1;
       }
   EXPECT_GT(certified, 1000);
