@@ -6,6 +6,7 @@
 // zip writer itself is checked the same way, ZIP64 records included.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
@@ -99,7 +100,7 @@ TEST(GcvfWriter, EntriesAreTheVoxelPrintLayersAndTheConfigDescribesTheJob) {
   const JobParams p = gcvf_params("entries", 3);
   run_slice_job(slicer, p);
   const SliceLayout& L = slicer.layout();
-  const int total = L.num_layers;
+  const int total = std::max(L.num_layers, p.min_layers);  // padding layers included
   const nlohmann::json z = inspect_zip(p.output_dir / "gcvf/stack.gcvf");
   EXPECT_TRUE(z["bad"].is_null()) << "CRC mismatch in " << z["bad"];
   const auto& entries = z["entries"];
