@@ -3,10 +3,10 @@
 // and their types stay out of the public headers.
 //
 // Grids are FloatGrids of class "fog volume" with value 1 where the voxel holds the material,
-// inactive (background 0) elsewhere: float density is the one grid type every one of those
-// tools renders directly (Blender's volume shader reads float grids as density; bool and mask
-// grids are read by fewer tools and not rendered by Blender), and an inactive background
-// costs nothing, so memory and file size follow the active voxels only.
+// inactive (background 0) elsewhere: a float grid is what volume renderers treat as density
+// (Blender's volume shader reads one by name), whereas bool and mask grids carry no value to
+// render and usually need converting first; an inactive background costs nothing, so memory
+// and file size follow the active voxels only.
 //
 // Layers finish in any order on several threads. Each worker deflates its label image into a
 // spool (layer_spool.h); when the job completes, finish() builds the grids from the spool in
