@@ -1,6 +1,7 @@
 // Every bundled example scene gives the same output bytes for 1, 2 and 8 threads, three
-// times each (two layers from the middle of each, to keep the suite quick). The scenes of
-// examples/shared_scenes/ are built from ../shared and skip when it is absent.
+// times each (two layers from the middle of each, to keep the suite quick), in the layer
+// formats and in the stack formats (multi-page TIFF, OpenVDB, GrabCAD package). The scenes
+// of examples/shared_scenes/ are built from ../shared and skip when it is absent.
 #include <unistd.h>
 
 #include <algorithm>
@@ -84,13 +85,14 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
       p.last_layer = middle;
       p.min_layers = 0;
       p.threads = threads;
-      p.formats = {"voxelprint", "bitmaps"};
+      p.formats = {"voxelprint", "bitmaps", "tiff", "vdb", "gcvf"};
       run_slice_job(slicer, p);
       const auto bytes = folder_bytes(p.output_dir);
       fs::remove_all(p.output_dir);
       if (runs++ == 0) {
         first = bytes;
-        EXPECT_GE(first.size(), 3u) << path;  // two layers and the manifest at least
+        EXPECT_GE(first.size(), 6u) << path;  // two layers, the manifest and the three stacks at least
+        EXPECT_EQ(first.count("vdb/stack.vdb") + first.count("gcvf/stack.gcvf") + first.count("tiff/stack.tif"), 3u);
       } else {
         EXPECT_EQ(bytes, first) << path << " with " << threads << " threads, repeat " << repeat;
       }
