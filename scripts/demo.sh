@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The README's first command: installs what is missing, builds the trivox program (release
-# preset) and slices the bundled quick-start scene into a Voxel Print PNG stack in out/,
-# then shows `trivox info` and `trivox probe` on a bundled model.
+# preset), slices the stem of the bundled chalice (the paper's Figure 1, five cells built by
+# revolution and sweeps) into a Voxel Print PNG stack in out/chalice with a preview of three
+# layers, then shows `trivox info` and `trivox probe` on a bundled model. Layers 101 to 400
+# of the chalice's 901 keep the demo short; drop --layers to slice it whole.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -10,8 +12,9 @@ scripts/build.sh release trivox_cli
 
 trivox=build/release/bin/trivox
 echo
-echo "\$ trivox slice examples/scenes/quick_start.json -o out/quick_start"
-"$trivox" slice examples/scenes/quick_start.json -o out/quick_start
+echo "\$ trivox slice examples/scenes/chalice.json -o out/chalice --layers 101:400 --preview 150,250,350"
+"$trivox" slice examples/scenes/chalice.json -o out/chalice --layers 101:400 --preview 150,250,350
+echo "previews: out/chalice/preview/layer_00150.png, layer_00250.png, layer_00350.png"
 echo
 echo "\$ trivox info examples/models/twisted_column.itd"
 "$trivox" info examples/models/twisted_column.itd

@@ -9,6 +9,10 @@ packages=(
   libfmt-dev libpugixml-dev nlohmann-json3-dev libcli11-dev libtbb-dev
   libpng-dev zlib1g-dev libtiff-dev libmuparser-dev libeigen3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the "vdb" output: OpenVDB and the Boost headers its headers include
+  libopenvdb-dev libboost-dev
+  # the tests open the .gcvf archive with Python's zipfile, a reader independent of trivox's
+  python3
   # clang with libFuzzer and the sanitizer runtimes: scripts/fuzz.sh, scripts/tsan.sh
   clang libclang-rt-14-dev
 )

@@ -66,7 +66,8 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("--skin", o.skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
   cmd.add_option("--vary-by-layer", o.vary_by_layer,
                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
-  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), preview (contact sheet and cuts)")
+  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), legacy (1-bit BMPs), tiff (multi-page TIFF), "
+                 "vdb (OpenVDB grid per material), gcvf (GrabCAD Voxel Print package), preview (contact sheet and cuts)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))
       ->capture_default_str();

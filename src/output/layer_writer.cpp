@@ -15,31 +15,43 @@ std::string layer_number(int index, int total_layers) {
   return fmt::format("{:0{}d}", index + 1, digits);
 }
 
+namespace detail {
+
+std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context) {
+  // Colour-exact output needs one distinct colour per material and for the background.
+  std::vector<std::array<std::uint8_t, 4>> all = context.material_rgba;
+  all.push_back(context.background_rgba);
+  std::sort(all.begin(), all.end());
+  if (std::adjacent_find(all.begin(), all.end()) != all.end())
+    throw Error("Voxel Print output needs a distinct RGBA colour for every material and for the background");
+  std::vector<std::array<std::uint8_t, 4>> palette = {context.background_rgba};
+  palette.insert(palette.end(), context.material_rgba.begin(), context.material_rgba.end());
+  return palette;
+}
+
+std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels, const std::vector<std::array<std::uint8_t, 4>>& palette) {
+  std::vector<std::uint8_t> rgba(labels.values().size() * 4);
+  std::size_t o = 0;
+  for (std::uint8_t label : labels.values()) {
+    const auto& c = palette[label];
+    rgba[o++] = c[0];
+    rgba[o++] = c[1];
+    rgba[o++] = c[2];
+    rgba[o++] = c[3];
+  }
+  return rgba;
+}
+
+}  // namespace detail
+
 namespace {
 
 class VoxelPrintWriter final : public LayerWriter {
  public:
-  explicit VoxelPrintWriter(OutputContext c) : c_(std::move(c)) {
-    // Colour-exact output needs one distinct colour per material and for the background.
-    std::vector<std::array<std::uint8_t, 4>> all = c_.material_rgba;
-    all.push_back(c_.background_rgba);
-    std::sort(all.begin(), all.end());
-    if (std::adjacent_find(all.begin(), all.end()) != all.end())
-      throw Error("Voxel Print output needs a distinct RGBA colour for every material and for the background");
-    palette_.push_back(c_.background_rgba);
-    palette_.insert(palette_.end(), c_.material_rgba.begin(), c_.material_rgba.end());
-  }
+  explicit VoxelPrintWriter(OutputContext c) : c_(std::move(c)), palette_(detail::voxelprint_palette(c_)) {}
   std::string_view name() const noexcept override { return "voxelprint"; }
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
-    std::vector<std::uint8_t> rgba(labels.values().size() * 4);
-    std::size_t o = 0;
-    for (std::uint8_t label : labels.values()) {
-      const auto& c = palette_[label];
-      rgba[o++] = c[0];
-      rgba[o++] = c[1];
-      rgba[o++] = c[2];
-      rgba[o++] = c[3];
-    }
+    const std::vector<std::uint8_t> rgba = detail::voxelprint_rgba(labels, palette_);
     std::string file = c_.prefix + layer_number(index, c_.total_layers) + ".png";
     write_png_rgba(c_.dir / file, labels.width_px(), labels.height_px(), rgba, c_.png);
     return {file};
@@ -86,9 +98,11 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
   if (format == "preview") return detail::make_preview_writer(context);
   if (format == "legacy") return detail::make_legacy_bitmap_writer(context);
   if (format == "tiff") return detail::make_tiff_stack_writer(context);
+  if (format == "vdb") return detail::make_vdb_writer(context);
+  if (format == "gcvf") return detail::make_gcvf_writer(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
-std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "tiff", "preview"}; }
+std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "tiff", "vdb", "gcvf", "preview"}; }
 
 }  // namespace trivox

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <system_error>
 
@@ -262,6 +263,31 @@ void write_png_rgba(const std::filesystem::path& path, int width_px, int height_
 void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
                     const PngWriteParams& params) {
   write_png_rgba(path, image.width_px, image.height_px, image.rgba, params);
+}
+
+std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,
+                            const PngWriteParams& params) {
+  params.validate();
+  const std::filesystem::path what("<PNG in memory>");
+  check_size(what, width_px, height_px, 4, rgba.size());
+  // The same libpng calls as write_png, into a memory stream: the bytes are those of the file.
+  char* buffer = nullptr;
+  std::size_t size = 0;
+  std::FILE* stream = ::open_memstream(&buffer, &size);
+  if (stream == nullptr) throw IoError(fmt::format("{}: cannot open a memory stream: {}", what.string(), errno_text(errno)));
+  PngWriteJob job = make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
+                             PNG_COLOR_TYPE_RGBA);
+  job.file = stream;
+  job.zlib_level = params.zlib_level;
+  job.filter_mask = png_filter_mask(params.filter);
+  job.error.text[0] = '\0';
+  const bool ok = write_png_core(&job);
+  const bool closed = std::fclose(stream) == 0;
+  std::string bytes;
+  if (ok && closed && buffer != nullptr) bytes.assign(buffer, size);
+  std::free(buffer);
+  if (!ok || !closed) throw IoError(fmt::format("{}: cannot encode PNG: {}", what.string(), job.error.text));
+  return bytes;
 }
 
 void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,

@@ -2,6 +2,7 @@
 // and the legacy bitmap method.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -23,6 +24,18 @@ std::unique_ptr<LayerWriter> make_layer_preview_writer(const OutputContext& cont
 
 // "tiff": every layer as a page of tiff/stack.tif (tiff_stack_writer.cpp).
 std::unique_ptr<LayerWriter> make_tiff_stack_writer(const OutputContext& context);
+
+// "vdb": one OpenVDB grid per material in vdb/stack.vdb (vdb_writer.cpp).
+std::unique_ptr<LayerWriter> make_vdb_writer(const OutputContext& context);
+
+// "gcvf": the Voxel Print PNGs and ConfigFile.xml zipped into gcvf/stack.gcvf (gcvf_writer.cpp).
+std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context);
+
+// The Voxel Print colour of every label (index = label: the background, then the materials).
+// Throws Error unless every material and the background have distinct RGBA colours.
+std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context);
+// The 8-bit RGBA pixels of `labels` in `palette`'s colours, row-major, top row first.
+std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels, const std::vector<std::array<std::uint8_t, 4>>& palette);
 
 // "legacy": 1-bit BMP per material per layer and legacy/slices.txt (legacy_bitmap_writer.cpp).
 std::unique_ptr<LayerWriter> make_legacy_bitmap_writer(const OutputContext& context);

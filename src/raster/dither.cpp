@@ -120,7 +120,9 @@ inline void spread_all(const std::int32_t* e, std::size_t num_components,
 // is slot (y + r) % kRows. After row y is done its slot is cleared and becomes row
 // y + kRows.
 // Logical row y is image row image_row(y) (see detail::ScanOrientation).
-template <class Kernel>
+// kComponents is m + 1 when it is known at compile time (the common scenes with one to four
+// materials: the per-component loops then unroll), or 0 for any other count.
+template <class Kernel, std::size_t kComponents>
 void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
                  detail::ScanOrientation orientation, LabelImage& labels) {
   constexpr auto& taps = Kernel::kTaps;
@@ -129,7 +131,7 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
 
   const int width = fractions.width_px();
   const int height = fractions.height_px();
-  const std::size_t m = static_cast<std::size_t>(fractions.num_materials());
+  const std::size_t m = kComponents > 0 ? kComponents - 1 : static_cast<std::size_t>(fractions.num_materials());
   const std::size_t num_components = m + 1;
   const std::size_t row_values = static_cast<std::size_t>(width) * num_components;
   std::vector<std::int32_t> error(static_cast<std::size_t>(kRows) * row_values, 0);
@@ -254,6 +256,20 @@ std::uint8_t nearest_pure_label(std::span<const float> f) noexcept {
   return best;
 }
 
+// dither_with for the scene's material count: one instantiation per count from 1 to 4
+// materials, the general loop beyond.
+template <class Kernel>
+void dither_with_components(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
+                            detail::ScanOrientation orientation, LabelImage& labels) {
+  switch (fractions.num_materials()) {
+    case 1: return dither_with<Kernel, 2>(fractions, inside, serpentine, orientation, labels);
+    case 2: return dither_with<Kernel, 3>(fractions, inside, serpentine, orientation, labels);
+    case 3: return dither_with<Kernel, 4>(fractions, inside, serpentine, orientation, labels);
+    case 4: return dither_with<Kernel, 5>(fractions, inside, serpentine, orientation, labels);
+    default: return dither_with<Kernel, 0>(fractions, inside, serpentine, orientation, labels);
+  }
+}
+
 void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
                  int layer, LabelImage& labels) {
   if (params.method == DitherMethod::kBlueNoise) {
@@ -263,14 +279,15 @@ void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const 
   const detail::ScanOrientation orientation = detail::scan_orientation(layer, params.vary_by_layer);
   switch (params.kernel) {
     case DiffusionKernel::kFloydSteinberg:
-      dither_with<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation, labels);
+      dither_with_components<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation,
+                                                           labels);
       return;
     case DiffusionKernel::kJarvisJudiceNinke:
-      dither_with<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine, orientation,
-                                                   labels);
+      dither_with_components<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine,
+                                                              orientation, labels);
       return;
     case DiffusionKernel::kStucki:
-      dither_with<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, labels);
+      dither_with_components<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, labels);
       return;
   }
 }

@@ -9,6 +9,7 @@
 #include "scene/scene_parse.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
+#include "trivox/construct/join.h"
 #include "trivox/construct/revolve.h"
 #include "trivox/construct/shell.h"
 #include "trivox/construct/sweep.h"
@@ -161,6 +162,32 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   return run(c, [&] { return thick_shell(s, p); });
 }
 
+// "patches": rows of surface indices of one file, joined into one surface (construct/join.h).
+TensorSpline parse_patch_grid(const JsonView& grid, const JsonView& file, const std::vector<const Patch*>& surfaces) {
+  std::vector<std::vector<TensorSpline>> rows;
+  std::size_t cols = 0;
+  for (const JsonView& row : grid.elements(1, 4096)) {
+    const std::vector<JsonView> entries = row.elements(1, 4096);
+    if (!rows.empty() && entries.size() != cols)
+      row.fail(fmt::format("this row names {} patches, the first row {}; the grid must be rectangular", entries.size(), cols));
+    cols = entries.size();
+    rows.emplace_back();
+    for (const JsonView& e : entries) {
+      const std::size_t i = static_cast<std::size_t>(e.integer_in(0, static_cast<int>(surfaces.size()) - 1));
+      const TensorSpline& s = surfaces[i]->spline;
+      if (s.point_dim() != 3)
+        e.fail(fmt::format("surface {} of \"{}\" has {} coordinate(s) per control point; geometry needs 3", i,
+                           file.string(), s.point_dim()));
+      rows.back().push_back(s);
+    }
+  }
+  try {
+    return join_surfaces(rows);
+  } catch (const ModelError& e) {
+    grid.fail(e.what());
+  }
+}
+
 }  // namespace
 
 TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int param_dim) {
@@ -170,13 +197,18 @@ TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int
     const TensorSpline s = parse_inline_spline(node, param_dim, 3);
     return s;
   }
-  node.expect_object({"file", "patch"});
+  node.expect_object({"file", "patch", "patches"});
   const JsonView file = node.at("file");
   const Model& model = ctx.model(file);
   std::vector<const Patch*> found;
   for (const Patch& p : model.patches)
     if (p.spline.param_dim() == param_dim) found.push_back(&p);
   if (found.empty()) file.fail(fmt::format("the file \"{}\" holds no {}", file.string(), what));
+  if (const auto grid = node.find("patches")) {
+    if (param_dim != 2) grid->fail("only surfaces are joined from a grid of patches");
+    if (node.find("patch")) grid->fail("give either \"patch\" or \"patches\", not both");
+    return parse_patch_grid(*grid, file, found);
+  }
   std::size_t i = 0;
   if (const auto patch = node.find("patch")) {
     i = static_cast<std::size_t>(patch->integer_in(0, static_cast<int>(found.size()) - 1));

@@ -50,7 +50,8 @@ bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw, Vec3& seed_uvw) {
     if (volume_.domain().contains(guess)) {
       ++counters_.newton_evals;
       const Vec3 residual = x - volume_.evaluate(guess);
-      if (norm(residual) <= params_.newton.residual_tolerance_model) {
+      const double tol = params_.newton.residual_tolerance_model;
+      if (dot(residual, residual) <= tol * tol) {  // squared: no root per pixel
         uvw = seed_uvw = guess;
         cur_jac_[c] = cur_jac_[c - 1];  // still a good predictor for the next row
         // The extrapolation weighs the last solutions by 3, -3, 1, so their errors (up to

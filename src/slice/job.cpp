@@ -180,6 +180,9 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   ctx.pitch_x_mm = L.pitch_x_mm;
   ctx.pitch_y_mm = L.pitch_y_mm;
   ctx.layer_mm = L.layer_mm;
+  ctx.x0_mm = L.x0_mm;
+  ctx.y_top_mm = L.y_top_mm;
+  ctx.z0_mm = L.z0_mm + range.first * L.layer_mm;
   ctx.png = params.png;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
@@ -190,7 +193,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   }
   const bool any_stack = std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
   if (any_stack && params.shard_count > 1)
-    throw Error("the preview format needs every layer of the job in one run: slice it without --shard");
+    throw Error("the stack formats (preview, tiff, vdb, gcvf) need every layer of the job in one run: slice them "
+                "without --shard");
   // Stack writers see every model layer; those a resumed job keeps are sliced again for them
   // (the same labels, since a layer depends only on the scene, settings and its index).
   std::vector<int> refeed;

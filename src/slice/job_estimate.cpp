@@ -86,6 +86,9 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   ctx.background_rgba = params.background_rgba;
   ctx.prefix = params.prefix;
   ctx.total_layers = m.total_layers;
+  ctx.pitch_x_mm = L.pitch_x_mm;  // the gcvf writer checks the resolution when it is made
+  ctx.pitch_y_mm = L.pitch_y_mm;
+  ctx.layer_mm = L.layer_mm;
   ctx.png = params.png;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));

@@ -1,5 +1,7 @@
 // Every bundled example scene gives the same output bytes for 1, 2 and 8 threads, three
-// times each (two layers from the middle of each, to keep the suite quick).
+// times each (two layers from the middle of each, to keep the suite quick), in the layer
+// formats and in the stack formats (multi-page TIFF, OpenVDB, GrabCAD package). The scenes
+// of examples/shared_scenes/ are built from ../shared and skip when it is absent.
 #include <unistd.h>
 
 #include <algorithm>
@@ -38,30 +40,37 @@ std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
 const std::vector<std::string>& example_scenes() {
   static const std::vector<std::string> names = {
       "boolean_pair", "box_gradient", "chalice", "column_scalar_gradient", "cylinder_sector_curves",
-      "dithering_skin", "duck_trimmed_box", "expression_layers", "quick_start", "teapot_trimmed_box",
-      "texture_composition", "twisted_column_porous"};
+      "dithering_skin", "expression_layers", "quick_start", "texture_composition",
+      "twisted_column_porous"};
   return names;
 }
 
-TEST(Determinism, EveryExampleSceneIsListed) {
+// Those of examples/shared_scenes/, read from ../shared.
+const std::vector<std::string>& shared_example_scenes() {
+  static const std::vector<std::string> names = {"duck_trimmed_box", "teapot", "teapot_trimmed_box"};
+  return names;
+}
+
+std::vector<std::string> scenes_in(const char* folder) {
   std::vector<std::string> found;
-  for (const auto& entry : fs::directory_iterator(fs::path(TRIVOX_EXAMPLES_DIR) / "scenes"))
+  for (const auto& entry : fs::directory_iterator(fs::path(TRIVOX_EXAMPLES_DIR) / folder))
     if (entry.path().extension() == ".json") found.push_back(entry.path().stem().string());
   std::sort(found.begin(), found.end());
-  EXPECT_EQ(found, example_scenes());
+  return found;
+}
+
+TEST(Determinism, EveryExampleSceneIsListed) {
+  EXPECT_EQ(scenes_in("scenes"), example_scenes());
+  EXPECT_EQ(scenes_in("shared_scenes"), shared_example_scenes());
 }
 
 class DeterminismOfExample : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
-  const fs::path path = fs::path(TRIVOX_EXAMPLES_DIR) / "scenes" / (GetParam() + ".json");
-  {
-    // Examples that read ../shared (the duck and teapot shells) need it beside the repository.
-    std::ifstream in(path);
-    const std::string text{std::istreambuf_iterator<char>(in), {}};
-    if (text.find("/shared/data/") != std::string::npos && test::shared_data_dir().empty())
-      GTEST_SKIP() << test::shared_data_missing_message();
-  }
+  const bool shared = std::find(shared_example_scenes().begin(), shared_example_scenes().end(), GetParam()) !=
+                      shared_example_scenes().end();
+  if (shared && test::shared_data_dir().empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const fs::path path = fs::path(TRIVOX_EXAMPLES_DIR) / (shared ? "shared_scenes" : "scenes") / (GetParam() + ".json");
   const Scene scene = read_scene(path);
   const Slicer slicer(scene, {});
   const int middle = slicer.layout().num_layers / 2;
@@ -76,13 +85,14 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
       p.last_layer = middle;
       p.min_layers = 0;
       p.threads = threads;
-      p.formats = {"voxelprint", "bitmaps"};
+      p.formats = {"voxelprint", "bitmaps", "tiff", "vdb", "gcvf"};
       run_slice_job(slicer, p);
       const auto bytes = folder_bytes(p.output_dir);
       fs::remove_all(p.output_dir);
       if (runs++ == 0) {
         first = bytes;
-        EXPECT_GE(first.size(), 3u) << path;  // two layers and the manifest at least
+        EXPECT_GE(first.size(), 6u) << path;  // two layers, the manifest and the three stacks at least
+        EXPECT_EQ(first.count("vdb/stack.vdb") + first.count("gcvf/stack.gcvf") + first.count("tiff/stack.tif"), 3u);
       } else {
         EXPECT_EQ(bytes, first) << path << " with " << threads << " threads, repeat " << repeat;
       }
@@ -91,7 +101,13 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
   EXPECT_EQ(runs, 9);
 }
 
-INSTANTIATE_TEST_SUITE_P(Examples, DeterminismOfExample, ::testing::ValuesIn(example_scenes()),
+std::vector<std::string> all_example_scenes() {
+  std::vector<std::string> all = example_scenes();
+  all.insert(all.end(), shared_example_scenes().begin(), shared_example_scenes().end());
+  return all;
+}
+
+INSTANTIATE_TEST_SUITE_P(Examples, DeterminismOfExample, ::testing::ValuesIn(all_example_scenes()),
                          [](const ::testing::TestParamInfo<std::string>& param_info) { return param_info.param; });
 
 }  // namespace

@@ -1,4 +1,4 @@
-// The shell-trimmed box of examples/scenes/duck_trimmed_box.json (the G+Smo duck B-rep of
+// The shell-trimmed box of examples/shared_scenes/duck_trimmed_box.json (the G+Smo duck B-rep of
 // ../shared trimming a box) against an independent point-in-solid test: vertical rays through
 // a tessellation of the duck twice as fine as the slicer's, unwelded. The slicer decides a
 // shell by even-odd crossings along +x in each layer's plane; every pixel of the tested
@@ -24,7 +24,7 @@ namespace {
 TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
   const auto dir = test::shared_data_dir();
   if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "scenes" / "duck_trimmed_box.json");
+  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "duck_trimmed_box.json");
   ASSERT_EQ(scene.cells.size(), 1u);
   const Slicer slicer(scene, {});
   const SliceLayout& L = slicer.layout();

@@ -1,4 +1,4 @@
-// The box of examples/scenes/teapot_trimmed_box.json trimmed by the IRIT trimmed-surface model
+// The box of examples/shared_scenes/teapot_trimmed_box.json trimmed by the IRIT trimmed-surface model
 // of the Utah teapot (../shared): its shell has hairline gaps along the seams, and the slicer
 // decides it by the gap-tolerant vote. Checked against vertical rays through an independent
 // tessellation: each surface's grid at a finer sampling, a triangle kept when its centroid
@@ -74,7 +74,7 @@ std::vector<std::array<Vec3, 3>> teapot_soup(const Model& model, int n) {
 TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndSeams) {
   const auto dir = test::shared_data_dir();
   if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "scenes" / "teapot_trimmed_box.json");
+  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "teapot_trimmed_box.json");
   const Slicer slicer(scene, {});
   // The seams close within the allowed gap (1e-3 of the size).
   const ShellMesh mesh(*scene.cells.at(0).trim.clauses.at(0).shell, 0.01);

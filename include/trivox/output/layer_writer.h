@@ -24,6 +24,9 @@ struct OutputContext {
   int model_layers = 1;                     // layers 0..model_layers-1 hold the model; the rest are padding
   // Pixel and layer pitch (mm), for outputs that show the stack at its true proportions.
   double pitch_x_mm = 1, pitch_y_mm = 1, layer_mm = 1;
+  // Where the stack sits in model space (mm), for outputs that place it there: the left edge
+  // of column 0, the top edge of row 0, and the bottom of job layer 0.
+  double x0_mm = 0, y_top_mm = 0, z0_mm = 0;
   PngWriteParams png;
 };
 
@@ -57,6 +60,11 @@ class LayerWriter {
 //               proportions.
 // "tiff":       tiff/stack.tif, one 8-bit palette page per job layer (value = label), for
 //               stack viewers; a stack output (written when the job completes).
+// "vdb":        vdb/stack.vdb, one OpenVDB FloatGrid per material named after it (1 = the voxel
+//               holds that material, inactive elsewhere), placed in model space (mm); a
+//               stack output.
+// "gcvf":       gcvf/stack.gcvf, a GrabCAD Voxel Print package: the "voxelprint" PNGs and
+//               ConfigFile.xml in one zip archive; a stack output.
 // "legacy":     the bitmap method of the paper's printer: legacy/<prefix><n>_<material>.bmp,
 //               one 1-bit BMP per material per layer (1 = material), and legacy/slices.txt
 //               with the layer thickness, slice count and bitmap names.

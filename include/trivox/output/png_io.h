@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -50,6 +51,10 @@ void write_png_rgba(const std::filesystem::path& path, int width_px, int height_
                     std::span<const std::uint8_t> rgba, const PngWriteParams& params = {});
 void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
                     const PngWriteParams& params = {});
+
+// The bytes write_png_rgba would write, in memory (for outputs that package PNGs).
+std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,
+                            const PngWriteParams& params = {});
 
 // Writes colour type 0 (grayscale), bit depth 8: one byte per pixel.
 void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,

@@ -1,0 +1,156 @@
+// The "gcvf" output: a GrabCAD Voxel Print package, gcvf/stack.gcvf - the job's Voxel Print
+// PNGs and a ConfigFile.xml that gives their resolution, size, count and material colours,
+// in one zip archive (docs/FORMATS.md, "GrabCAD Voxel Print package" names the public
+// sources of the layout and every field).
+//
+// Each worker encodes its layer's PNG exactly as the "voxelprint" output does (same palette,
+// same encoder, same settings: the entries are byte for byte the voxelprint files) and
+// spools it (layer_spool.h) with its per-material voxel counts; when the job completes,
+// finish() zips the PNGs in layer order and the configuration after them, through an
+// AtomicFile. The zip container is deterministic (zip_writer.h), so the package depends
+// only on the layers and the settings.
+#include <cmath>
+#include <mutex>
+
+#include <fmt/format.h>
+
+#include "output/layer_spool.h"
+#include "output/stack_writers.h"
+#include "output/zip_writer.h"
+#include "trivox/error.h"
+#include "trivox/output/atomic_file.h"
+
+namespace trivox::detail {
+
+namespace {
+
+std::string xml_escaped(std::string_view text) {
+  std::string out;
+  for (char ch : text) {
+    switch (ch) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += ch;
+    }
+  }
+  return out;
+}
+
+std::string rgba_text(const std::array<std::uint8_t, 4>& c) { return fmt::format("{} {} {} {}", c[0], c[1], c[2], c[3]); }
+
+// GCVF gives resolutions in whole dots per inch: the pitch must be 25.4 mm over a whole
+// number (to a part in a million).
+int whole_dpi(double pitch_mm, const char* axis) {
+  const double dpi = 25.4 / pitch_mm;
+  const double rounded = std::round(dpi);
+  if (!(rounded >= 1) || std::abs(dpi - rounded) > 1e-6 * rounded)
+    throw Error(fmt::format("gcvf: the {} pitch {} mm is not a whole number of dots per inch ({} dpi); GCVF records "
+                            "whole dpi",
+                            axis, pitch_mm, dpi));
+  return static_cast<int>(rounded);
+}
+
+class GcvfWriter final : public LayerWriter {
+ public:
+  explicit GcvfWriter(OutputContext c) : c_(std::move(c)), palette_(voxelprint_palette(c_)) {
+    x_dpi_ = whole_dpi(c_.pitch_x_mm, "x");
+    y_dpi_ = whole_dpi(c_.pitch_y_mm, "y");
+    std::error_code ec;
+    std::filesystem::create_directories(c_.dir / "gcvf", ec);
+    if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (c_.dir / "gcvf").string(), ec.message()));
+    spool_ = std::make_unique<LayerSpool>(c_.dir / "gcvf" / "stack.gcvf.spool", c_.total_layers);
+    counts_.assign(static_cast<std::size_t>(c_.total_layers), std::vector<std::int64_t>(palette_.size(), 0));
+  }
+  std::string_view name() const noexcept override { return "gcvf"; }
+  bool needs_whole_stack() const noexcept override { return true; }
+
+  std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
+    const std::vector<std::uint8_t> rgba = voxelprint_rgba(labels, palette_);
+    const std::string png = encode_png_rgba(labels.width_px(), labels.height_px(), rgba, c_.png);
+    std::vector<std::int64_t> count(palette_.size(), 0);
+    for (std::uint8_t l : labels.values())
+      if (l < count.size()) ++count[l];
+    spool_->put(index, png);
+    std::lock_guard lock(mutex_);
+    counts_[static_cast<std::size_t>(index)] = std::move(count);  // a layer fed again replaces its count
+    width_ = labels.width_px();
+    height_ = labels.height_px();
+    return {};
+  }
+
+  std::vector<std::string> finish() const override {
+    std::lock_guard lock(mutex_);
+    const std::string file = "gcvf/stack.gcvf";
+    const std::filesystem::path target = c_.dir / file;
+    AtomicFile out(target);
+    ZipWriter zip(out.file(), target.string());
+    for (int i = 0; i < c_.total_layers; ++i) zip.add(image_name(i), spool_->get(i));
+    zip.add("ConfigFile.xml", config_xml());
+    zip.finish();
+    out.commit();
+    return {file};
+  }
+
+ private:
+  // Slices are numbered from StartIndex (0) without padding, as the public packages do.
+  std::string image_name(int index) const { return fmt::format("{}{}.png", c_.prefix, index); }
+
+  std::string config_xml() const {
+    std::vector<std::int64_t> total(palette_.size(), 0);
+    for (const auto& layer : counts_)
+      for (std::size_t l = 0; l < layer.size(); ++l) total[l] += layer[l];
+    std::string x;
+    x += "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    x += "<!-- GCVF: GrabCAD Voxel Print package written by trivox -->\n";
+    x += "<GCVF>\n";
+    x += "    <Version>2</Version>\n";
+    x += "    <Resolution>\n";
+    x += fmt::format("        <XDpi>{}</XDpi>\n", x_dpi_);
+    x += fmt::format("        <YDpi>{}</YDpi>\n", y_dpi_);
+    x += fmt::format("        <SliceThicknessNanoMeter>{}</SliceThicknessNanoMeter>\n",
+                     static_cast<long long>(std::llround(c_.layer_mm * 1e6)));
+    x += "    </Resolution>\n";
+    x += "    <SliceDimensions>\n";
+    x += fmt::format("        <SliceWidth>{}</SliceWidth>\n", width_);
+    x += fmt::format("        <SliceHeight>{}</SliceHeight>\n", height_);
+    x += "    </SliceDimensions>\n";
+    x += "    <SliceRange>\n";
+    x += "        <StartIndex>0</StartIndex>\n";
+    x += fmt::format("        <NumberOfSlices>{}</NumberOfSlices>\n", c_.total_layers);
+    x += "    </SliceRange>\n";
+    x += "    <BitDepth>4</BitDepth>\n";
+    x += "    <MaxNumberOfColors>6</MaxNumberOfColors>\n";
+    x += "    <DataSemantics>Materials</DataSemantics>\n";
+    x += "    <CreationMode>MODEL_ONLY</CreationMode>\n";
+    x += fmt::format("    <ImageFilePrefix>{}</ImageFilePrefix>\n", xml_escaped(c_.prefix));
+    x += "    <MaterialList>\n";
+    x += fmt::format("        <BackGroundMaterialRGBA>{}</BackGroundMaterialRGBA>\n", rgba_text(c_.background_rgba));
+    for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
+      x += "        <Material>\n";
+      x += fmt::format("            <Name>{}</Name>\n", xml_escaped(c_.material_names[j]));
+      x += fmt::format("            <RGBA>{}</RGBA>\n", rgba_text(palette_[j + 1]));
+      x += fmt::format("            <VoxelCount>{}</VoxelCount>\n", total[j + 1]);
+      x += "        </Material>\n";
+    }
+    x += "    </MaterialList>\n";
+    x += "</GCVF>\n";
+    return x;
+  }
+
+  OutputContext c_;
+  std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label
+  int x_dpi_ = 0, y_dpi_ = 0;
+  std::unique_ptr<LayerSpool> spool_;
+  mutable std::mutex mutex_;
+  mutable std::vector<std::vector<std::int64_t>> counts_;  // [layer][label]
+  mutable int width_ = 0, height_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context) { return std::make_unique<GcvfWriter>(context); }
+
+}  // namespace trivox::detail

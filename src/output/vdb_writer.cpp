@@ -1,0 +1,252 @@
+// The "vdb" output: one OpenVDB grid per material in vdb/stack.vdb, for volume tools
+// (Blender, Houdini, ParaView). The only file that includes OpenVDB's headers: they are heavy,
+// and their types stay out of the public headers.
+//
+// Grids are FloatGrids of class "fog volume" with value 1 where the voxel holds the material,
+// inactive (background 0) elsewhere: a float grid is what volume renderers treat as density
+// (Blender's volume shader reads one by name), whereas bool and mask grids carry no value to
+// render and usually need converting first; an inactive background costs nothing, so memory
+// and file size follow the active voxels only.
+//
+// Layers finish in any order on several threads. Each worker deflates its label image into a
+// spool (layer_spool.h); when the job completes, finish() builds the grids from the spool in
+// increasing layer order, one layer in memory at a time, pruning uniform 8-layer blocks into
+// tiles as it goes, and writes the file once under a temporary name that is renamed when
+// whole.
+//
+// OpenVDB stamps every file with a random UUID (bytes 21..56 of the header). trivox replaces
+// it with one derived from the SHA-256 of the file with the UUID zeroed, so the file depends
+// only on the grids; everything else OpenVDB writes (grid and file metadata, Blosc-compressed
+// buffers) is a function of the grids.
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <openvdb/io/File.h>
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Prune.h>
+
+#include "output/layer_spool.h"
+#include "output/stack_writers.h"
+#include "trivox/error.h"
+#include "trivox/io/sha256.h"
+#include "trivox/output/vdb_stack.h"
+
+namespace trivox {
+
+namespace {
+
+void initialize_openvdb() {
+  static std::once_flag once;
+  std::call_once(once, [] { openvdb::initialize(); });
+}
+
+constexpr long kUuidOffset = 21;  // magic (8), file version (4), library version (8), offsets flag (1)
+constexpr std::size_t kUuidChars = 36;
+
+bool looks_like_uuid(const char* s) {
+  for (std::size_t i = 0; i < kUuidChars; ++i) {
+    const bool dash = i == 8 || i == 13 || i == 18 || i == 23;
+    if (dash ? s[i] != '-' : std::isxdigit(static_cast<unsigned char>(s[i])) == 0) return false;
+  }
+  return true;
+}
+
+// Replaces the random file UUID by one derived from the file's content (see the top).
+void make_uuid_deterministic(const std::filesystem::path& file, const std::filesystem::path& target) {
+  std::FILE* f = std::fopen(file.c_str(), "rb+");
+  if (f == nullptr) throw IoError(fmt::format("{}: cannot reopen {}", target.string(), file.string()));
+  struct Close {
+    std::FILE* f;
+    ~Close() {
+      if (f != nullptr) std::fclose(f);
+    }
+  } close{f};
+  char uuid[kUuidChars + 1] = {};
+  if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fread(uuid, 1, kUuidChars, f) != kUuidChars || !looks_like_uuid(uuid))
+    throw IoError(fmt::format("{}: the OpenVDB header has no file UUID where expected (byte {})", target.string(), kUuidOffset));
+  const std::string zero = "00000000-0000-0000-0000-000000000000";
+  if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fwrite(zero.data(), 1, kUuidChars, f) != kUuidChars ||
+      std::fflush(f) != 0)
+    throw IoError(fmt::format("{}: cannot write {}", target.string(), file.string()));
+  const std::string h = sha256_file(file).sha256;
+  const std::string id = fmt::format("{}-{}-{}-{}-{}", h.substr(0, 8), h.substr(8, 4), h.substr(12, 4), h.substr(16, 4),
+                                     h.substr(20, 12));
+  if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fwrite(id.data(), 1, kUuidChars, f) != kUuidChars ||
+      std::fflush(f) != 0 || ::fsync(::fileno(f)) != 0)
+    throw IoError(fmt::format("{}: cannot write {}", target.string(), file.string()));
+}
+
+}  // namespace
+
+std::vector<VdbGridSummary> read_vdb_stack(const std::filesystem::path& path) {
+  initialize_openvdb();
+  std::vector<VdbGridSummary> out;
+  try {
+    openvdb::io::File file(path.string());
+    file.open(false);  // read everything now: no delayed loading from a file that may change
+    const openvdb::GridPtrVecPtr grids = file.getGrids();
+    file.close();
+    for (const openvdb::GridBase::Ptr& base : *grids) {
+      const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+      if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
+      const openvdb::math::Transform& xf = grid->transform();
+      if (!xf.isLinear()) throw IoError(fmt::format("{}: grid '{}' has no linear transform", path.string(), grid->getName()));
+      VdbGridSummary s;
+      s.name = grid->getName();
+      s.value_type = grid->valueType();
+      s.grid_class = openvdb::GridBase::gridClassToString(grid->getGridClass());
+      const openvdb::Vec3d size = xf.voxelSize();
+      const openvdb::Vec3d origin = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
+      s.voxel_size_mm = {size.x(), size.y(), size.z()};
+      s.index_origin_mm = {origin.x(), origin.y(), origin.z()};
+      for (auto it = grid->tree().cbeginValueOn(); it; ++it) {
+        const openvdb::CoordBBox box = it.getBoundingBox();  // one voxel, or a whole tile
+        for (auto c = box.begin(); c; ++c) {
+          s.active.push_back({(*c).x(), (*c).y(), (*c).z()});
+          if (*it != 1.0f) ++s.values_not_one;
+        }
+      }
+      std::sort(s.active.begin(), s.active.end());
+      out.push_back(std::move(s));
+    }
+  } catch (const Error&) {
+    throw;
+  } catch (const std::exception& e) {  // OpenVDB's exceptions and its streams' failures
+    throw IoError(fmt::format("{}: cannot read as OpenVDB: {}", path.string(), e.what()));
+  }
+  return out;
+}
+
+namespace detail {
+
+namespace {
+
+class VdbWriter final : public LayerWriter {
+ public:
+  explicit VdbWriter(OutputContext c) : c_(std::move(c)) {
+    initialize_openvdb();
+    std::error_code ec;
+    std::filesystem::create_directories(c_.dir / "vdb", ec);
+    if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (c_.dir / "vdb").string(), ec.message()));
+    spool_ = std::make_unique<LayerSpool>(c_.dir / "vdb" / "stack.vdb.spool", c_.total_layers);
+  }
+  std::string_view name() const noexcept override { return "vdb"; }
+  bool needs_whole_stack() const noexcept override { return true; }
+
+  std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
+    uLongf size = compressBound(static_cast<uLong>(labels.values().size()));
+    std::string packed(size, '\0');
+    if (compress2(reinterpret_cast<Bytef*>(packed.data()), &size, labels.values().data(),
+                  static_cast<uLong>(labels.values().size()), 1) != Z_OK)
+      throw Error(fmt::format("vdb: cannot compress layer {}", index + 1));
+    packed.resize(size);
+    {
+      std::lock_guard lock(mutex_);
+      width_ = labels.width_px();
+      height_ = labels.height_px();
+    }
+    spool_->put(index, packed);
+    return {};
+  }
+
+  std::vector<std::string> finish() const override {
+    const std::string file = "vdb/stack.vdb";
+    const std::filesystem::path target = c_.dir / file;
+    std::vector<openvdb::FloatGrid::Ptr> grids;
+    // Index (i, j, k) = (column, rows from the bottom, job layer); voxel centres sit at whole
+    // index coordinates, so the centre of pixel (col, row) of job layer k lands at
+    // (x0 + (col + 1/2) px, y_top - (row + 1/2) py, z0 + (k + 1/2) layer), as in the slicer.
+    const double y_bottom_mm = c_.y_top_mm - height_ * c_.pitch_y_mm;
+    openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(1.0);
+    xf->preScale(openvdb::Vec3d(c_.pitch_x_mm, c_.pitch_y_mm, c_.layer_mm));
+    xf->postTranslate(openvdb::Vec3d(c_.x0_mm + 0.5 * c_.pitch_x_mm, y_bottom_mm + 0.5 * c_.pitch_y_mm,
+                                     c_.z0_mm + 0.5 * c_.layer_mm));
+    for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
+      openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.0f);
+      g->setName(c_.material_names[j]);
+      g->setGridClass(openvdb::GRID_FOG_VOLUME);
+      g->setTransform(xf->copy());
+      g->setSaveFloatAsHalf(false);
+      if (j < c_.material_rgba.size()) {
+        const auto& c = c_.material_rgba[j];
+        g->insertMeta("rgba", openvdb::Vec4IMetadata(openvdb::Vec4i(c[0], c[1], c[2], c[3])));
+      }
+      grids.push_back(std::move(g));
+    }
+    try {
+      std::vector<openvdb::FloatGrid::Accessor> access;
+      for (const auto& g : grids) access.push_back(g->getAccessor());
+      std::vector<std::uint8_t> labels(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
+      for (int k = 0; k < c_.total_layers; ++k) {
+        const std::string packed = spool_->get(k);
+        uLongf size = static_cast<uLongf>(labels.size());
+        if (uncompress(labels.data(), &size, reinterpret_cast<const Bytef*>(packed.data()), static_cast<uLong>(packed.size())) !=
+                Z_OK ||
+            size != labels.size())
+          throw Error(fmt::format("vdb: layer {} does not decompress to {} x {} labels", k + 1, width_, height_));
+        for (int row = 0; row < height_; ++row) {
+          const std::uint8_t* line = labels.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(width_);
+          const int j_index = height_ - 1 - row;
+          for (int col = 0; col < width_; ++col) {
+            const std::uint8_t l = line[col];
+            if (l == 0 || l > access.size()) continue;
+            access[l - 1u].setValueOn(openvdb::Coord(col, j_index, k), 1.0f);
+          }
+        }
+        // A leaf spans 8 layers: once its last layer is in, uniform leaves become tiles.
+        if (k % 8 == 7 || k == c_.total_layers - 1)
+          for (std::size_t j = 0; j < grids.size(); ++j) {
+            access[j].clear();
+            openvdb::tools::prune(grids[j]->tree(), 0.0f, /*threaded=*/false);
+          }
+      }
+    } catch (const openvdb::Exception& e) {
+      throw Error(fmt::format("{}: cannot build the grids: {}", target.string(), e.what()));
+    }
+    const std::filesystem::path temp = target.string() + fmt::format(".tmp-{}-0", static_cast<long>(::getpid()));
+    struct RemoveTemp {
+      std::filesystem::path p;
+      bool keep = false;
+      ~RemoveTemp() {
+        std::error_code ec;
+        if (!keep) std::filesystem::remove(p, ec);
+      }
+    } guard{temp};
+    try {
+      openvdb::GridCPtrVec out(grids.begin(), grids.end());
+      openvdb::MetaMap meta;
+      meta.insertMeta("creator", openvdb::StringMetadata("trivox"));
+      openvdb::io::File f(temp.string());
+      f.write(out, meta);
+      f.close();
+    } catch (const openvdb::Exception& e) {
+      throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), e.what()));
+    }
+    make_uuid_deterministic(temp, target);
+    if (std::rename(temp.c_str(), target.c_str()) != 0)
+      throw IoError(fmt::format("{}: cannot rename {}", target.string(), temp.string()));
+    guard.keep = true;
+    return {file};
+  }
+
+ private:
+  OutputContext c_;
+  std::unique_ptr<LayerSpool> spool_;
+  mutable std::mutex mutex_;
+  mutable int width_ = 0, height_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<LayerWriter> make_vdb_writer(const OutputContext& context) { return std::make_unique<VdbWriter>(context); }
+
+}  // namespace detail
+
+}  // namespace trivox
