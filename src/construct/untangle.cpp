@@ -155,6 +155,16 @@ double dotv(const std::vector<double>& a, const std::vector<double>& b) {
 
 }  // namespace
 
+namespace detail {
+double untangle_objective(const TensorSpline& s, int samples_per_span, double sigma, double scale,
+                          double target_relative, std::vector<double>* gradient) {
+  const Objective obj(s, samples_per_span);
+  const std::vector<double> x(s.points().begin(), s.points().end());
+  if (gradient) gradient->assign(x.size(), 0.0);
+  return obj.value_gradient(x, sigma, scale, target_relative, gradient);
+}
+}  // namespace detail
+
 UntangleResult untangle(const TensorSpline& volume, const UntangleParams& params) {
   if (volume.param_dim() != 3 || volume.point_dim() != 3)
     throw ModelError("untangle: expected a trivariate with 3D points");

@@ -14,6 +14,8 @@
 // meets the target; the result is still only checked at samples (as every Jacobian check is).
 #pragma once
 
+#include <vector>
+
 #include "trivox/spline/tensor_spline.h"
 
 namespace trivox {
@@ -41,5 +43,14 @@ struct UntangleResult {
 // Throws ModelError for a rational or periodic volume (the weights would have to move with
 // the points) and for a volume without interior control points.
 UntangleResult untangle(const TensorSpline& volume, const UntangleParams& params = {});
+
+namespace detail {
+// The objective F of the points of polynomial volume `s` on its grid of `samples_per_span`
+// samples per knot span (both domain ends included), and when `gradient` is given its
+// gradient with respect to every coordinate of every control point (3 per point, in the
+// spline's order). Exposed for the tests.
+double untangle_objective(const TensorSpline& s, int samples_per_span, double sigma, double scale,
+                          double target_relative, std::vector<double>* gradient);
+}  // namespace detail
 
 }  // namespace trivox
