@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Makes the preview images of docs/EXAMPLES.md with trivox itself, from the scenes in the
-# repository: the chalice always; the teapot when ../shared (the real models it is built
-# from) is beside the repository. Writes docs/images/*.png; scratch output goes to
+# repository: the chalice always; the teapot and the duck when ../shared (the real models
+# they are built from) is beside the repository. Writes docs/images/*.png; scratch output goes to
 # out/doc_images/. Build first (scripts/build.sh release trivox_cli).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -27,7 +27,11 @@ if [ -d ../shared/data ]; then
   "$trivox" slice examples/shared_scenes/teapot.json -o "$scratch/teapot" --layers 760:760 --preview 760 \
     --min-layers 0 -q
   cp "$scratch/teapot/preview/layer_00760.png" docs/images/teapot_layer_760.png
+  # The duck: one layer through the body and the neck, showing the porous tiles.
+  "$trivox" slice examples/shared_scenes/duck.json -o "$scratch/duck" --layers 1500:1500 --preview 1500 \
+    --min-layers 0 -q
+  cp "$scratch/duck/preview/layer_01500.png" docs/images/duck_layer_1500.png
 else
-  echo "make_doc_images.sh: ../shared/data is absent: the teapot's images are left as they are" >&2
+  echo "make_doc_images.sh: ../shared/data is absent: the teapot's and the duck's images are left as they are" >&2
 fi
 ls -l docs/images

@@ -2,10 +2,12 @@
 // built from curves and surfaces by one of the constructors of include/trivox/construct/.
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <string_view>
 
 #include <fmt/format.h>
 
+#include "construct/construct_util.h"
 #include "scene/scene_parse.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
@@ -13,6 +15,7 @@
 #include "trivox/construct/revolve.h"
 #include "trivox/construct/shell.h"
 #include "trivox/construct/sweep.h"
+#include "trivox/construct/untangle.h"
 #include "trivox/error.h"
 
 namespace trivox::detail {
@@ -54,6 +57,25 @@ void expect_keys(const JsonView& node, std::initializer_list<std::string_view> o
 }
 
 const char* const kSurface = "surface";
+
+// {"knots_per_span": K, "iterations": N, "samples_per_span": S, "target": T}, all optional.
+UntangleParams parse_untangle(const JsonView& node) {
+  if (!node.is_object()) node.fail(fmt::format("expected an object, got {}", JsonView::describe(node.json())));
+  constexpr std::array<std::string_view, 4> kKeys = {"knots_per_span", "iterations", "samples_per_span", "target"};
+  for (const auto& [key, value] : node.members())
+    if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end())
+      value.fail(fmt::format("unknown key \"{}\"; the keys allowed here are \"knots_per_span\", \"iterations\", "
+                             "\"samples_per_span\", \"target\"", key));
+  UntangleParams p;
+  if (const auto v = node.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
+  if (const auto v = node.find("iterations")) p.iterations = v->integer_in(0, 100000);
+  if (const auto v = node.find("samples_per_span")) p.samples_per_span = v->integer_in(1, 16);
+  if (const auto v = node.find("target")) {
+    p.target_relative = v->number();
+    if (!(p.target_relative > 0.0 && p.target_relative < 1.0)) v->fail("the target must be > 0 and < 1");
+  }
+  return p;
+}
 
 // The six faces of a closed shell in any order: an array of six surfaces, or {"file": F}, all
 // the surfaces of a model file.
@@ -129,20 +151,29 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     return run(c, [&] { return sweep(section, path, p); });
   }
   if (kind == "coons") {
-    expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces"});
+    expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces", "untangle"});
     CoonsParams p;
     p.check = check;
+    std::optional<UntangleParams> untangling;
+    if (const auto u = c.find("untangle")) untangling = parse_untangle(*u);
+    // The Coons volume, untangled when asked: only its interior control points move.
+    auto make = [&](const std::array<TensorSpline, 6>& faces) {
+      Constructed built = coons(faces, p);
+      if (!untangling) return built;
+      UntangleResult r = untangle(built.volume.spline(), *untangling);
+      return detail::finish("coons", std::move(r.spline), check);
+    };
     if (const auto all = c.find("faces")) {
       for (int i = 0; i < 6; ++i)
         if (c.find(coons_face_name(i)))
           c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
       const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
-      return run(c, [&] { return coons(arrange_cube_faces(shell), p); });
+      return run(c, [&] { return make(arrange_cube_faces(shell)); });
     }
     std::vector<TensorSpline> f;
     for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
     const std::array<TensorSpline, 6> faces{f[0], f[1], f[2], f[3], f[4], f[5]};
-    return run(c, [&] { return coons(faces, p); });
+    return run(c, [&] { return make(faces); });
   }
   expect_keys(c, {kSurface, "thickness_mm", "side", "knots_per_span"});
   const TensorSpline s = parse_curve_or_surface(c.at(kSurface), ctx, 2);

@@ -16,6 +16,7 @@
 #include "trivox/construct/revolve.h"
 #include "trivox/construct/shell.h"
 #include "trivox/construct/sweep.h"
+#include "trivox/construct/untangle.h"
 #include "trivox/io/model.h"
 #include "trivox/scene/scene.h"
 #include "trivox/spline/jacobian_check.h"
@@ -224,6 +225,37 @@ TEST(SceneConstruct, CoonsFacesInAnyOrder) {
   five.erase(five.size() - 1);
   expect_scene_error(scene_with({{"coons", {{"faces", five}}}}).dump(), "/cells/0/geometry/coons/faces",
                      "array of 6 elements");
+}
+
+TEST(SceneConstruct, CoonsUntangleIsTheLibrarysAndChecksItsKeys) {
+  // A box whose top bulges: the untangled volume is the library's untangle() of the Coons
+  // volume, point for point.
+  const auto plate = [](auto f) { return test::bilinear_plate(f); };
+  std::array<TensorSpline, 6> faces{plate([](double v, double w) { return Vec3{0, 4 * v, 3 * w}; }),
+                                    plate([](double v, double w) { return Vec3{5, 4 * v, 3 * w}; }),
+                                    plate([](double u, double w) { return Vec3{5 * u, 0, 3 * w}; }),
+                                    plate([](double u, double w) { return Vec3{5 * u, 4, 3 * w}; }),
+                                    plate([](double u, double v) { return Vec3{5 * u, 4 * v, 0}; }),
+                                    plate([](double u, double v) { return Vec3{5 * u, 4 * v, 3}; })};
+  ordered_json coons_json;
+  for (int f = 0; f < 6; ++f) coons_json[coons_face_name(f)] = inline_spline(faces[static_cast<std::size_t>(f)]);
+  UntangleParams p;
+  p.knots_per_span = 2;
+  p.iterations = 10;
+  p.samples_per_span = 2;
+  p.target_relative = 0.5;
+  ordered_json with = coons_json;
+  with["untangle"] = {{"knots_per_span", 2}, {"iterations", 10}, {"samples_per_span", 2}, {"target", 0.5}};
+  const Volume v = read_one({{"coons", with}});
+  expect_same(v, Volume(untangle(coons(faces).volume.spline(), p).spline));
+  EXPECT_EQ(v.spline().num_ctrl(0), 4);  // two knots inserted into the single span
+  with["untangle"] = {{"knots", 2}};
+  expect_scene_error(scene_with({{"coons", with}}).dump(), "/cells/0/geometry/coons/untangle/knots",
+                     "unknown key \"knots\"");
+  with["untangle"] = {{"target", 1.5}};
+  expect_scene_error(scene_with({{"coons", with}}).dump(), "/cells/0/geometry/coons/untangle/target", "> 0 and < 1");
+  with["untangle"] = {{"knots_per_span", 9}};
+  expect_scene_error(scene_with({{"coons", with}}).dump(), "/cells/0/geometry/coons/untangle/knots_per_span", "");
 }
 
 TEST(SceneConstruct, CoonsVolumeOfTheSharedDuckFolds) {

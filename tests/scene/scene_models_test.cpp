@@ -62,5 +62,17 @@ TEST(SharedModels, TeapotReadsWithoutFoldsAndSlicesWithEveryPixelResolved) {
   }
 }
 
+TEST(SharedModels, DuckIsOneUntangledTrivariateAndSlicesWithEveryPixelResolved) {
+  if (test::shared_data_dir().empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  // One cell, the untangled Coons volume of the duck B-rep: no fold on a 33^3 grid either.
+  const Scene scene = read_scene(kSharedScenes / "duck.json");
+  ASSERT_EQ(scene.cells.size(), 1U);
+  const JacobianReport fine = check_jacobian(scene.cells[0].volume, {33});
+  EXPECT_NE(fine.classification, JacobianClass::kFolded);
+  EXPECT_EQ(fine.zero, 0);
+  const std::vector<std::int64_t> owned = check_model("duck", 1, 6);
+  EXPECT_GT(owned[0], 0);
+}
+
 }  // namespace
 }  // namespace trivox

@@ -47,7 +47,7 @@ const std::vector<std::string>& example_scenes() {
 
 // Those of examples/shared_scenes/, read from ../shared.
 const std::vector<std::string>& shared_example_scenes() {
-  static const std::vector<std::string> names = {"duck_trimmed_box", "teapot", "teapot_trimmed_box"};
+  static const std::vector<std::string> names = {"duck", "duck_trimmed_box", "teapot", "teapot_trimmed_box"};
   return names;
 }
 

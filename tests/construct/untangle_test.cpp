@@ -1,0 +1,166 @@
+// Untangling moves only the interior control points: a folded volume comes out with det J of
+// one sign on a fine grid, its faces unchanged; a valid volume is left alone.
+#include <gtest/gtest.h>
+
+#include "support/test_support.h"
+#include "trivox/construct/coons.h"
+#include "trivox/construct/untangle.h"
+#include "trivox/error.h"
+#include "trivox/io/model.h"
+#include "trivox/spline/jacobian_check.h"
+#include "trivox/spline/refine.h"
+
+namespace trivox {
+namespace {
+
+// A 10 x 10 x 10 mm cube as a tricubic Bezier volume (4 x 4 x 4 control points on a uniform
+// grid), with its eight interior control points crossed over: the one that belongs near a
+// corner is pushed beyond the opposite one, so det J is negative around the centre.
+TensorSpline folded_cube() {
+  std::vector<double> pts;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        Vec3 p{10.0 * i / 3, 10.0 * j / 3, 10.0 * k / 3};
+        const bool interior = i > 0 && i < 3 && j > 0 && j < 3 && k > 0 && k < 3;
+        if (interior) p = Vec3{i == 1 ? 30.0 : -20.0, j == 1 ? 30.0 : -20.0, k == 1 ? 30.0 : -20.0};
+        pts.insert(pts.end(), {p.x, p.y, p.z});
+      }
+  const KnotVector b = KnotVector::bezier(4);
+  return TensorSpline({b, b, b}, 3, std::move(pts));
+}
+
+Vec3 at(const Volume& v, double u, double w, double t) { return v.evaluate({u, w, t}); }
+
+// The largest distance between the two volumes' points on their six faces.
+double face_difference(const Volume& a, const Volume& b) {
+  double worst = 0.0;
+  const int n = 21;
+  for (int f = 0; f < 6; ++f)
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        Vec3 uvw;
+        const int dir = f / 2;
+        uvw[dir] = f % 2;
+        uvw[dir == 0 ? 1 : 0] = double(i) / (n - 1);
+        uvw[dir == 2 ? 1 : 2] = double(j) / (n - 1);
+        worst = std::max(worst, norm(at(a, uvw.x, uvw.y, uvw.z) - at(b, uvw.x, uvw.y, uvw.z)));
+      }
+  return worst;
+}
+
+TEST(Untangle, FoldedCubeComesOutWithOneSignAndTheSameFaces) {
+  const TensorSpline folded = folded_cube();
+  const Volume before(folded);
+  ASSERT_EQ(check_jacobian(before, {33}).classification, JacobianClass::kFolded);
+  const UntangleResult r = untangle(folded, {});
+  EXPECT_GT(r.below_target_before, 0);
+  EXPECT_LT(r.min_relative_before, 0.0);
+  EXPECT_EQ(r.below_target_after, 0);
+  EXPECT_GE(r.min_relative_after, 0.05);
+  const Volume after(r.spline);
+  for (int n : {7, 33, 50}) {
+    const JacobianReport j = check_jacobian(after, {n});
+    EXPECT_EQ(j.classification, JacobianClass::kRightHanded) << n << " samples: " << j.negative << " negative";
+  }
+  EXPECT_LE(face_difference(before, after), 1e-12);
+  // Knot insertion only: one knot in the middle of each direction's single span.
+  EXPECT_EQ(r.spline.num_ctrl(0), 5);
+}
+
+// The reference: F summed from det J of Volume::evaluate_jacobian on the same grid.
+double reference_objective(const TensorSpline& s, int samples_per_span, double sigma, double scale, double target) {
+  const Volume v(s);
+  const int n = samples_per_span + 1;  // a Bezier volume: one span per direction
+  double f = 0.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        Vec3 x;
+        Mat3 jac;
+        v.evaluate_jacobian({double(i) / samples_per_span, double(j) / samples_per_span, double(k) / samples_per_span},
+                            x, jac);
+        const double r = target - sigma * jac.determinant() / scale;
+        if (r > 0) f += r * r;
+      }
+  return f;
+}
+
+TEST(Untangle, ObjectiveAndGradientMatchTheirReferences) {
+  const TensorSpline s = folded_cube();
+  const double scale = 300.0, target = 0.05;
+  for (double sigma : {1.0, -1.0}) {
+    std::vector<double> grad;
+    const double f = detail::untangle_objective(s, 4, sigma, scale, target, &grad);
+    ASSERT_GT(f, 0.0);
+    EXPECT_NEAR(f, reference_objective(s, 4, sigma, scale, target), 1e-9 * f);
+    // Central differences of the reference, coordinate by coordinate.
+    const std::vector<double> pts(s.points().begin(), s.points().end());
+    for (std::size_t c = 0; c < pts.size(); c += 5) {
+      const double h = 1e-5;
+      std::vector<double> p = pts, m = pts;
+      p[c] += h;
+      m[c] -= h;
+      const double fd = (reference_objective(TensorSpline(s.all_knots(), 3, p), 4, sigma, scale, target) -
+                         reference_objective(TensorSpline(s.all_knots(), 3, m), 4, sigma, scale, target)) /
+                        (2 * h);
+      EXPECT_NEAR(grad[c], fd, 1e-5 * (1.0 + std::abs(fd))) << "coordinate " << c << ", sigma " << sigma;
+    }
+  }
+}
+
+TEST(Untangle, ValidVolumeIsLeftAsItIs) {
+  const TensorSpline folded = folded_cube();
+  std::vector<double> pts(folded.points().begin(), folded.points().end());
+  for (int k = 1; k < 3; ++k)
+    for (int j = 1; j < 3; ++j)
+      for (int i = 1; i < 3; ++i) {
+        const std::size_t c = static_cast<std::size_t>(folded.ctrl_linear(i, j, k));
+        pts[3 * c] = 10.0 * i / 3;
+        pts[3 * c + 1] = 10.0 * j / 3;
+        pts[3 * c + 2] = 10.0 * k / 3;
+      }
+  const TensorSpline cube(folded.all_knots(), 3, pts);
+  UntangleParams p;
+  p.knots_per_span = 0;
+  const UntangleResult r = untangle(cube, p);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.below_target_before, 0);
+  for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(r.spline.points()[i], pts[i]);
+}
+
+TEST(Untangle, RejectsWhatItCannotUntangle) {
+  const KnotVector b = KnotVector::bezier(2);
+  const TensorSpline trilinear({b, b, b}, 3, std::vector<double>(24, 0.0));
+  UntangleParams none;
+  none.knots_per_span = 0;
+  EXPECT_THROW(untangle(trilinear, none), ModelError);  // no interior control points
+  const TensorSpline cube = folded_cube();
+  const TensorSpline rational(cube.all_knots(), 3, std::vector<double>(cube.points().begin(), cube.points().end()),
+                              std::vector<double>(64, 1.0));
+  EXPECT_THROW(untangle(rational), ModelError);
+  UntangleParams bad;
+  bad.knots_per_span = 9;
+  EXPECT_THROW(untangle(folded_cube(), bad), ModelError);
+}
+
+TEST(Untangle, DuckCoonsVolumeNoLongerFolds) {
+  const auto dir = test::shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
+  const Model duck = read_model(dir / "surfaces" / "duck_brep.xml");
+  std::vector<TensorSpline> shell;
+  for (const Patch& p : duck.patches) shell.push_back(p.spline);
+  const Constructed plain = coons(arrange_cube_faces(shell));
+  ASSERT_TRUE(check_jacobian(plain.volume, {33}).classification == JacobianClass::kFolded);
+  const UntangleResult r = untangle(plain.volume.spline(), {});
+  const Volume after(r.spline);
+  for (int n : {7, 33, 65}) {
+    const JacobianReport j = check_jacobian(after, {n});
+    EXPECT_TRUE(j.classification == JacobianClass::kLeftHanded || j.classification == JacobianClass::kRightHanded)
+        << n << " samples: " << j.positive << " positive, " << j.negative << " negative, " << j.zero << " zero";
+  }
+  EXPECT_LE(face_difference(plain.volume, after), 1e-12);
+}
+
+}  // namespace
+}  // namespace trivox
