@@ -8,7 +8,9 @@
 # build/fuzz/artifacts/<target>/. Fails when any target reports a crash, a leak, undefined
 # behaviour, a timeout (10 s per input) or an out-of-memory (2 GB). Ends with one line per
 # target: seconds, executions, corpus size, findings; the same table goes to
-# build/fuzz/summary.tsv.
+# build/fuzz/summary.tsv. The random seed is fixed (TRIVOX_FUZZ_SEED, default 1) so that a
+# run is repeatable: CI fails on the code, not on the luck of the draw. Set another seed to
+# explore further.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -20,6 +22,10 @@ case "$seconds" in
   ''|*[!0-9]*) echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2 ;;
 esac
 jobs="${TRIVOX_JOBS:-$(nproc)}"
+seed="${TRIVOX_FUZZ_SEED:-1}"
+case "$seed" in
+  ''|*[!0-9]*) echo "fuzz.sh: TRIVOX_FUZZ_SEED must be a whole number, got '$seed'" >&2; exit 2 ;;
+esac
 
 scripts/install-deps.sh
 cmake --preset fuzz
@@ -54,7 +60,7 @@ for target in "${targets[@]}"; do
   log="build/fuzz/$target.log"
   echo "fuzz.sh: fuzz_$target for ${seconds}s (log: $log)"
   set +e
-  "build/fuzz/fuzz/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+  "build/fuzz/fuzz/fuzz_$target" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$artifacts" \
     "$work" "fuzz/corpus/$target" "fuzz/regressions/$target" "$seeds" > "$log" 2>&1
   status=$?

@@ -167,8 +167,8 @@ void run(const SliceOptions& so) {
     inside += s.pixels_inside;
     global += s.global_calls;
   }
-  fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {} threads\n", st.layers.size(), L.width_px,
-             L.height_px, o.output, st.seconds, st.threads);
+  fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px,
+             L.height_px, o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);

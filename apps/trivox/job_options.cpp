@@ -139,10 +139,10 @@ void print_estimate(const JobEstimate& e) {
   if (e.sampled_layers > 0) {
     fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
                static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + 1, e.sampled_layers);
-    fmt::print("  time: about {:.0f} s with {} threads (sample layers sliced one at a time on this machine now)\n", e.seconds,
-               e.threads);
+    fmt::print("  time: about {:.0f} s with {} (sample layers sliced one at a time on this machine now)\n", e.seconds,
+               thread_text(e.threads));
   }
-  fmt::print("  peak memory: about {} with {} threads\n", byte_text(e.peak_memory_bytes), e.threads);
+  fmt::print("  peak memory: about {} with {}\n", byte_text(e.peak_memory_bytes), thread_text(e.threads));
 }
 
 }  // namespace trivox::cli

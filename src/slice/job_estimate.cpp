@@ -152,9 +152,9 @@ void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional
                               byte_text(*free)));
   }
   if (memory_limit && e.peak_memory_bytes > *memory_limit)
-    throw Error(fmt::format("the job needs about {} of memory with {} threads ({} x {} px layers) but the limit is {}; "
+    throw Error(fmt::format("the job needs about {} of memory with {} ({} x {} px layers) but the limit is {}; "
                             "use fewer threads (-j), raise --memory-limit, or override with --no-checks",
-                            byte_text(e.peak_memory_bytes), e.threads, e.width_px, e.height_px, byte_text(*memory_limit)));
+                            byte_text(e.peak_memory_bytes), thread_text(e.threads), e.width_px, e.height_px, byte_text(*memory_limit)));
 }
 
 std::string byte_text(std::uint64_t bytes) {
@@ -164,5 +164,7 @@ std::string byte_text(std::uint64_t bytes) {
   if (b >= 1e3) return fmt::format("{:.1f} kB", b / 1e3);
   return fmt::format("{} B", bytes);
 }
+
+std::string thread_text(int threads) { return fmt::format("{} thread{}", threads, threads == 1 ? "" : "s"); }
 
 }  // namespace trivox

@@ -98,5 +98,10 @@ TEST(JobEstimate, ByteText) {
   EXPECT_EQ(byte_text(1230000000), "1.23 GB");
 }
 
+TEST(JobEstimate, ThreadTextAgreesInNumber) {
+  EXPECT_EQ(thread_text(1), "1 thread");
+  EXPECT_EQ(thread_text(2), "2 threads");
+}
+
 }  // namespace
 }  // namespace trivox

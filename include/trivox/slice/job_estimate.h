@@ -50,4 +50,7 @@ void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::o
 // "1.23 GB", "456 MB", "12.3 kB", "17 B" (decimal units).
 std::string byte_text(std::uint64_t bytes);
 
+// "1 thread", "2 threads".
+std::string thread_text(int threads);
+
 }  // namespace trivox
