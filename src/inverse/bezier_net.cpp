@@ -1,5 +1,7 @@
 #include "bezier_net.h"
 
+#include "trivox/spline/knot_vector.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -22,25 +24,50 @@ Interval divide_positive(Interval a, Interval b) {  // b.lo > 0
 }  // namespace
 
 Box3 BezierNet::bounds() const {
+  // Plain running minima and maxima, one per coordinate, so that the compiler can keep them
+  // in vector registers (the global solver asks this of every box it visits); one loop with
+  // the division and one without.
+  double lo[3] = {HUGE_VAL, HUGE_VAL, HUGE_VAL}, hi[3] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  auto sweep = [&](auto coordinate) {
+    for (const H& p : h)
+      for (std::size_t c = 0; c < 3; ++c) {
+        const double v = coordinate(p, c);
+        lo[c] = v < lo[c] ? v : lo[c];
+        hi[c] = v > hi[c] ? v : hi[c];
+      }
+  };
+  if (polynomial) sweep([](const H& p, std::size_t c) { return p[c]; });
+  else sweep([](const H& p, std::size_t c) { return p[c] / p[3]; });
   Box3 b;
-  for (const H& p : h) b.expand(Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]});
+  if (h.empty()) return b;
+  b.lo = {lo[0], lo[1], lo[2]};
+  b.hi = {hi[0], hi[1], hi[2]};
   return b;
 }
 
 double BezierNet::max_along(Vec3 direction) const {
   double best = -HUGE_VAL;
-  for (const H& p : h)
-    best = std::max(best, (direction.x * p[0] + direction.y * p[1] + direction.z * p[2]) / p[3]);
+  for (const H& p : h) {
+    const double along = direction.x * p[0] + direction.y * p[1] + direction.z * p[2];
+    best = std::max(best, polynomial ? along : along / p[3]);
+  }
   return best;
 }
 
 std::array<BezierNet, 2> BezierNet::halve(int d) const {
-  std::array<BezierNet, 2> out{*this, *this};
+  std::array<BezierNet, 2> out;
+  for (BezierNet& half : out) {
+    half.order = order;
+    half.box = box;
+    half.polynomial = polynomial;
+    half.h.resize(h.size());
+  }
   const double mid = 0.5 * (box.lo[d] + box.hi[d]);
   out[0].box.hi[d] = mid;
   out[1].box.lo[d] = mid;
   const int n = order[static_cast<std::size_t>(d)];
-  std::vector<H> line(static_cast<std::size_t>(n));
+  // One line of control points along d at a time (orders are at most kMaxOrder).
+  std::array<H, kMaxOrder> line;
   const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
   for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
     for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
@@ -74,9 +101,8 @@ std::array<BezierNet, 2> BezierNet::halve(int d) const {
 }
 
 std::array<double, 3> BezierNet::extents() const {
-  // Euclidean points once, then the longest control polygon along each direction.
-  std::vector<Vec3> e(h.size());
-  for (std::size_t i = 0; i < h.size(); ++i) e[i] = {h[i][0] / h[i][3], h[i][1] / h[i][3], h[i][2] / h[i][3]};
+  // The longest control polygon along each direction (Euclidean points as they are needed:
+  // no division at all for polynomial nets).
   const std::array<std::size_t, 3> stride = {1, static_cast<std::size_t>(order[0]),
                                              static_cast<std::size_t>(order[0] * order[1])};
   std::array<double, 3> out{};
@@ -90,7 +116,7 @@ std::array<double, 3> BezierNet::extents() const {
         double poly = 0.0;
         for (int i = 1; i < order[dd]; ++i) {
           const std::size_t q = first + static_cast<std::size_t>(i) * stride[dd];
-          poly += norm(e[q] - e[q - stride[dd]]);
+          poly += norm(euclidean(q) - euclidean(q - stride[dd]));
         }
         out[dd] = std::max(out[dd], poly);
       }
@@ -98,41 +124,45 @@ std::array<double, 3> BezierNet::extents() const {
   return out;
 }
 
-bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi) const {
+bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi, const Box3& xb) const {
   // x = X / W with X, W polynomial. d x / d p = (X_p - x W_p) / W, bounded by interval
   // arithmetic over the hulls of the hodograph nets (X_p, W_p), of x (the Euclidean control
   // box) and of W (the weights).
   Interval W{HUGE_VAL, -HUGE_VAL};
   for (const H& p : h) W = {std::min(W.lo, p[3]), std::max(W.hi, p[3])};
   if (!(W.lo > 0)) return false;
-  const Box3 xb = bounds();
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(order[0]), static_cast<std::size_t>(order[0] * order[1])};
   for (int d = 0; d < 3; ++d) {
     const int n = order[static_cast<std::size_t>(d)];
-    std::array<Interval, 4> D;
-    D.fill({HUGE_VAL, -HUGE_VAL});
+    // Hull of the hodograph along d: differences of neighbouring control points, scaled.
+    // Eight running extrema (low and high of X_p, Y_p, Z_p, W_p) over a flat sweep of the
+    // net, kept apart so that they vectorize.
+    double dlo[4] = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
+    double dhi[4] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     if (n == 1) {
-      D.fill({0.0, 0.0});
+      for (int q = 0; q < 4; ++q) dlo[q] = dhi[q] = 0.0;
     } else {
       const double scale = (n - 1) / (box.hi[d] - box.lo[d]);
+      const std::size_t step = stride[d];
       for (int k = 0; k < order[2]; ++k)
         for (int j = 0; j < order[1]; ++j)
           for (int i = 0; i < order[0]; ++i) {
-            std::array<int, 3> c{i, j, k};
-            if (c[static_cast<std::size_t>(d)] == n - 1) continue;
-            std::array<int, 3> c1 = c;
-            ++c1[static_cast<std::size_t>(d)];
-            const H& p0 = at(c[0], c[1], c[2]);
-            const H& p1 = at(c1[0], c1[1], c1[2]);
-            for (int q = 0; q < 4; ++q) {
-              const double v = scale * (p1[static_cast<std::size_t>(q)] - p0[static_cast<std::size_t>(q)]);
-              auto& I = D[static_cast<std::size_t>(q)];
-              I = {std::min(I.lo, v), std::max(I.hi, v)};
+            const int along = d == 0 ? i : (d == 1 ? j : k);
+            if (along + 1 == n) continue;  // the last point of its line along d
+            const std::size_t q = static_cast<std::size_t>(i) + stride[1] * static_cast<std::size_t>(j) +
+                                  stride[2] * static_cast<std::size_t>(k);
+            const H& p0 = h[q];
+            const H& p1 = h[q + step];
+            for (int c = 0; c < 4; ++c) {
+              const double v = scale * (p1[static_cast<std::size_t>(c)] - p0[static_cast<std::size_t>(c)]);
+              dlo[c] = v < dlo[c] ? v : dlo[c];
+              dhi[c] = v > dhi[c] ? v : dhi[c];
             }
           }
     }
     for (int r = 0; r < 3; ++r) {
       const Interval xr{xb.lo[r], xb.hi[r]};
-      const Interval num = D[static_cast<std::size_t>(r)] - xr * D[3];
+      const Interval num = Interval{dlo[r], dhi[r]} - xr * Interval{dlo[3], dhi[3]};
       const Interval J = divide_positive(num, W);
       lo.m[static_cast<std::size_t>(r)][static_cast<std::size_t>(d)] = J.lo;
       hi.m[static_cast<std::size_t>(r)][static_cast<std::size_t>(d)] = J.hi;

@@ -13,6 +13,15 @@ struct BezierNet {
   std::array<int, 3> order{};  // control points per direction
   ParamBox box;                // the parameters of the original volume this net covers
   std::vector<std::array<double, 4>> h;
+  // Every weight is exactly 1 (a polynomial volume; halving keeps it so, since it averages
+  // weights): the Euclidean points are then the first three coordinates, no division needed,
+  // and dividing by 1 would give the same numbers.
+  bool polynomial = false;
+
+  Vec3 euclidean(std::size_t q) const {
+    const std::array<double, 4>& p = h[q];
+    return polynomial ? Vec3{p[0], p[1], p[2]} : Vec3{p[0] / p[3], p[1] / p[3], p[2] / p[3]};
+  }
 
   const std::array<double, 4>& at(int i, int j, int k) const {
     return h[static_cast<std::size_t>(i + order[0] * (j + order[1] * k))];
@@ -39,7 +48,9 @@ struct BezierNet {
 
   // Conservative interval bounds of the Jacobian over the box: lo/hi of d x_r / d p_c.
   // Returns false when a weight interval reaches zero (cannot happen for valid input).
-  bool jacobian_bounds(Mat3& lo, Mat3& hi) const;
+  // `euclidean_bounds` is bounds(), for a caller that has it already.
+  bool jacobian_bounds(Mat3& lo, Mat3& hi) const { return jacobian_bounds(lo, hi, bounds()); }
+  bool jacobian_bounds(Mat3& lo, Mat3& hi, const Box3& euclidean_bounds) const;
 };
 
 // True when the map is provably one-to-one on the net's box: with A the inverse of the

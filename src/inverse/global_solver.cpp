@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "bezier_net.h"
+#include "box_tree.h"
 #include "newton.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/spline/refine.h"
@@ -25,30 +26,38 @@ std::string_view to_string(GlobalStatus s) noexcept {
   return "unknown";
 }
 
-struct GlobalSolver::Impl {
-  detail::BezierNet net;
-  Box3 bounds;
+// The volume's Bezier pieces in the order of their parameters (u fastest), and an index of
+// their control boxes: the search starts from the pieces whose box holds x.
+struct GlobalSolver::Pieces {
+  std::vector<detail::BezierNet> nets;
+  detail::BoxTree index;
 };
 
 GlobalSolver::GlobalSolver(const Volume& volume) : volume_(&volume) {
+  auto pieces = std::make_unique<Pieces>();
+  std::vector<Box3> bounds;
   for (const TensorSpline& piece : bezier_patches(volume.spline())) {
-    Impl impl;
+    detail::BezierNet net;
     for (int d = 0; d < 3; ++d) {
-      impl.net.order[static_cast<std::size_t>(d)] = piece.knots(d).order();
-      impl.net.box.lo[d] = piece.lo(d);
-      impl.net.box.hi[d] = piece.hi(d);
+      net.order[static_cast<std::size_t>(d)] = piece.knots(d).order();
+      net.box.lo[d] = piece.lo(d);
+      net.box.hi[d] = piece.hi(d);
     }
-    impl.net.h.resize(static_cast<std::size_t>(piece.total_ctrl()));
+    net.h.resize(static_cast<std::size_t>(piece.total_ctrl()));
+    net.polynomial = true;
     for (int k = 0; k < piece.num_ctrl(2); ++k)
       for (int j = 0; j < piece.num_ctrl(1); ++j)
         for (int i = 0; i < piece.num_ctrl(0); ++i) {
           const auto p = piece.point(i, j, k);
           const double w = piece.weight(i, j, k);
-          impl.net.at(i, j, k) = {w * p[0], w * p[1], w * p[2], w};
+          net.at(i, j, k) = {w * p[0], w * p[1], w * p[2], w};
+          net.polynomial = net.polynomial && w == 1.0;
         }
-    impl.bounds = impl.net.bounds();
-    pieces_.push_back(std::move(impl));
+    bounds.push_back(net.bounds());
+    pieces->nets.push_back(std::move(net));
   }
+  pieces->index = detail::BoxTree(std::move(bounds));
+  pieces_ = std::move(pieces);
   // Typical |det J| (mean over a 5^3 grid) sets the scale for calling a root singular.
   const ParamBox& dom = volume.domain();
   double sum = 0.0;
@@ -105,9 +114,15 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
 
   // Depth-first over a stack; pieces are pushed in reverse so that they pop in order,
   // which keeps the search (and so its result) deterministic.
+  std::vector<int> first_pieces;
+  pieces_->index.query(x, box_tol, first_pieces);
   std::vector<detail::BezierNet> stack;
-  for (auto it = pieces_.rbegin(); it != pieces_.rend(); ++it)
-    if (it->bounds.contains(x, box_tol)) stack.push_back(it->net);
+  for (auto it = first_pieces.rbegin(); it != first_pieces.rend(); ++it) {
+    const detail::BezierNet& piece = pieces_->nets[static_cast<std::size_t>(*it)];
+    // The plane test of the loop below, made before copying the net.
+    if (use_plane && piece.max_along(normal) < plane) continue;
+    stack.push_back(piece);
+  }
 
   while (!stack.empty()) {
     detail::BezierNet net = std::move(stack.back());
@@ -129,7 +144,7 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
       continue;
     }
     Mat3 lo, hi;
-    if (net.jacobian_bounds(lo, hi)) {
+    if (net.jacobian_bounds(lo, hi, b)) {
       Vec3 p;
       Mat3 Jc;
       volume.evaluate_jacobian(net.box.center(), p, Jc);

@@ -26,11 +26,13 @@ struct Grid {
   std::vector<double> data;       // n[0]*n[1]*n[2] rows of hdim() values, u fastest
 
   int hdim() const { return rational ? dim + 1 : dim; }
-  double* at(int i, int j, int k) {
-    return &data[(static_cast<std::size_t>(i) +
-                  static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))) *
-                 static_cast<std::size_t>(hdim())];
+  std::size_t offset(int i, int j, int k) const {
+    return (static_cast<std::size_t>(i) +
+            static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))) *
+           static_cast<std::size_t>(hdim());
   }
+  double* at(int i, int j, int k) { return &data[offset(i, j, k)]; }
+  const double* at(int i, int j, int k) const { return &data[offset(i, j, k)]; }
 };
 
 Grid to_grid(const TensorSpline& s) {
@@ -144,23 +146,36 @@ void insert(Grid& g, int d, double u, int r) {
   g = std::move(out);
 }
 
-// Keeps control points [first, first+count) and knots [first, first+count+order) along d.
-void crop(Grid& g, int d, int first, int count) {
-  Grid out = g;
-  out.n[static_cast<std::size_t>(d)] = count;
-  out.data.assign(static_cast<std::size_t>(out.n[0] * out.n[1] * out.n[2] * out.hdim()), 0.0);
+// Keeps control points [first[d], first[d] + count[d]) and knots [first[d], first[d] +
+// count[d] + order) along every direction d, copying nothing else of the grid.
+Grid block(const Grid& g, const std::array<int, 3>& first, const std::array<int, 3>& count) {
+  Grid out;
+  out.order = g.order;
+  out.dim = g.dim;
+  out.rational = g.rational;
+  out.n = count;
+  for (std::size_t d = 0; d < g.knots.size(); ++d) {
+    const auto& U = g.knots[d];
+    out.knots.emplace_back(U.begin() + first[d], U.begin() + first[d] + count[d] + g.order[d]);
+  }
+  out.data.resize(static_cast<std::size_t>(out.n[0] * out.n[1] * out.n[2] * out.hdim()));
   const int hd = g.hdim();
   for (int k = 0; k < out.n[2]; ++k)
     for (int j = 0; j < out.n[1]; ++j)
       for (int i = 0; i < out.n[0]; ++i) {
-        std::array<int, 3> src{i, j, k};
-        src[static_cast<std::size_t>(d)] += first;
-        const double* p = g.at(src[0], src[1], src[2]);
+        const double* p = g.at(i + first[0], j + first[1], k + first[2]);
         std::copy(p, p + hd, out.at(i, j, k));
       }
-  auto& U = g.knots[static_cast<std::size_t>(d)];
-  out.knots[static_cast<std::size_t>(d)].assign(U.begin() + first, U.begin() + first + count + g.order[static_cast<std::size_t>(d)]);
-  g = std::move(out);
+  return out;
+}
+
+// Keeps control points [first, first+count) and knots [first, first+count+order) along d.
+void crop(Grid& g, int d, int first, int count) {
+  std::array<int, 3> firsts{0, 0, 0};
+  std::array<int, 3> counts = g.n;
+  firsts[static_cast<std::size_t>(d)] = first;
+  counts[static_cast<std::size_t>(d)] = count;
+  g = block(g, firsts, counts);
 }
 
 void raise_multiplicity(Grid& g, int d, double t, int target) {
@@ -244,13 +259,15 @@ std::vector<TensorSpline> bezier_patches(const TensorSpline& s) {
   for (int pk = 0; pk < pieces[2]; ++pk)
     for (int pj = 0; pj < pieces[1]; ++pj)
       for (int pi = 0; pi < pieces[0]; ++pi) {
-        Grid piece = g;
         const std::array<int, 3> index{pi, pj, pk};
+        std::array<int, 3> first{0, 0, 0};
+        std::array<int, 3> count = g.n;
         for (int d = 0; d < s.param_dim(); ++d) {
           const int k = g.order[static_cast<std::size_t>(d)];
-          crop(piece, d, index[static_cast<std::size_t>(d)] * k, k);
+          first[static_cast<std::size_t>(d)] = index[static_cast<std::size_t>(d)] * k;
+          count[static_cast<std::size_t>(d)] = k;
         }
-        out.push_back(from_grid(piece));
+        out.push_back(from_grid(block(g, first, count)));
       }
   return out;
 }

@@ -1,12 +1,17 @@
 // The global solver's exclusion tests are exact: Krawczyk's "no root in this box" is checked
 // against a brute-force search, and the separating-plane hint may change the work but never
-// the preimages found.
+// the preimages found. Its fast paths give the answers of their plain references: the index
+// of the pieces' boxes those of a scan of every box, a polynomial net's division-free hulls
+// and bounds the same numbers as dividing by its unit weights.
 #include <cmath>
+#include <cstring>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "inverse/bezier_net.h"
+#include "inverse/box_tree.h"
 #include "inverse/newton.h"
 #include "support/test_support.h"
 #include "trivox/inverse/invert.h"
@@ -121,6 +126,104 @@ TEST(Exclusion, OutwardHintNeverChangesThePreimages) {
     }
   }
   EXPECT_GT(hinted_outside, 30);
+}
+
+TEST(PieceIndex, FindsExactlyTheBoxesAScanFindsInTheSameOrder) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-10.0, 10.0), S(0.0, 3.0);
+  for (int count : {0, 1, 3, 4, 5, 17, 300}) {
+    std::vector<Box3> boxes;
+    for (int i = 0; i < count; ++i) {
+      const Vec3 lo{U(rng), U(rng), U(rng)};
+      // Some boxes are flat or single points, like the pieces of a collapsed face.
+      const Vec3 size = i % 7 == 3 ? Vec3{0, 0, 0} : Vec3{S(rng), i % 5 == 1 ? 0.0 : S(rng), S(rng)};
+      boxes.push_back({lo, lo + size});
+    }
+    if (count == 300)
+      for (int i = 0; i < 20; ++i) boxes.push_back(boxes[static_cast<std::size_t>(i)]);  // duplicates
+    const detail::BoxTree tree(boxes);
+    int hits = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+      // Points near box corners too, so that the tolerance decides.
+      Vec3 p{U(rng), U(rng), U(rng)};
+      if (!boxes.empty() && trial % 3 == 0) p = boxes[static_cast<std::size_t>(trial) % boxes.size()].hi + Vec3{1e-3, 0, -1e-3};
+      const double tol = trial % 2 ? 0.0 : 2e-3;
+      std::vector<int> scan, indexed{-1};  // query appends: keep what was there
+      for (std::size_t i = 0; i < boxes.size(); ++i)
+        if (boxes[i].contains(p, tol)) scan.push_back(static_cast<int>(i));
+      tree.query(p, tol, indexed);
+      ASSERT_EQ(indexed.front(), -1);
+      ASSERT_EQ(std::vector<int>(indexed.begin() + 1, indexed.end()), scan) << "count " << count << " trial " << trial;
+      hits += static_cast<int>(scan.size());
+    }
+    if (count >= 17) {
+      EXPECT_GT(hits, 100) << "the points should hit boxes";
+    }
+  }
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(PolynomialNet, GivesTheNumbersOfDividingByUnitWeights) {
+  const Volume v = test::twisted_bent_box(3, 2, 1, 4, 4);  // one cubic piece
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(0.0, 1.0), S(0.05, 0.5), D(-1.0, 1.0);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Vec3 lo{U(rng) * 0.5, U(rng) * 0.5, U(rng) * 0.5};
+    detail::BezierNet divided = net_on(v, {lo, lo + Vec3{S(rng), S(rng), S(rng)}});
+    for (const auto& p : divided.h) ASSERT_EQ(p[3], 1.0);
+    detail::BezierNet fast = divided;
+    fast.polynomial = true;
+    // After a few halvings too: halving must keep the flag and the unit weights.
+    for (int level = 0; level < 3; ++level) {
+      const Box3 a = divided.bounds(), b = fast.bounds();
+      for (int d = 0; d < 3; ++d) ASSERT_TRUE(same_bits(a.lo[d], b.lo[d]) && same_bits(a.hi[d], b.hi[d]));
+      const Vec3 dir{D(rng), D(rng), D(rng)};
+      ASSERT_TRUE(same_bits(divided.max_along(dir), fast.max_along(dir)));
+      const auto ea = divided.extents(), eb = fast.extents();
+      for (std::size_t d = 0; d < 3; ++d) ASSERT_TRUE(same_bits(ea[d], eb[d]));
+      Mat3 alo, ahi, blo, bhi;
+      ASSERT_TRUE(divided.jacobian_bounds(alo, ahi));
+      ASSERT_TRUE(fast.jacobian_bounds(blo, bhi));
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c)
+          ASSERT_TRUE(same_bits(alo.m[r][c], blo.m[r][c]) && same_bits(ahi.m[r][c], bhi.m[r][c]));
+      const int dir_index = trial % 3;
+      auto halves_a = divided.halve(dir_index);
+      auto halves_b = fast.halve(dir_index);
+      ASSERT_TRUE(halves_b[0].polynomial && halves_b[1].polynomial);
+      const std::size_t pick = static_cast<std::size_t>(level % 2);
+      divided = halves_a[pick];
+      fast = halves_b[pick];
+      for (const auto& p : fast.h) ASSERT_EQ(p[3], 1.0);
+    }
+  }
+}
+
+TEST(PolynomialNet, JacobianBoundsHoldTheJacobianEverywhereInTheBox) {
+  // The hodograph hull bounds every Jacobian of the box: the reference is the evaluator.
+  const Volume v = test::twisted_bent_box(3, 2, 1, 4, 4);  // one cubic piece
+  std::mt19937 rng(29);
+  std::uniform_real_distribution<double> U(0.0, 1.0), S(0.05, 0.5);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Vec3 lo{U(rng) * 0.5, U(rng) * 0.5, U(rng) * 0.5};
+    const ParamBox box{lo, lo + Vec3{S(rng), S(rng), S(rng)}};
+    detail::BezierNet net = net_on(v, box);
+    net.polynomial = true;
+    Mat3 jlo, jhi;
+    ASSERT_TRUE(net.jacobian_bounds(jlo, jhi));
+    for (int sample = 0; sample < 50; ++sample) {
+      Vec3 p;
+      Mat3 J;
+      v.evaluate_jacobian(lerp(box, {U(rng), U(rng), U(rng)}), p, J);
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c) {
+          const double slack = 1e-9 * (1.0 + std::abs(J.m[r][c]));
+          EXPECT_GE(J.m[r][c], jlo.m[r][c] - slack);
+          EXPECT_LE(J.m[r][c], jhi.m[r][c] + slack);
+        }
+    }
+  }
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 // Outside-the-volume is a result, not an error.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -117,9 +118,9 @@ class GlobalSolver {
   GlobalResult solve(Vec3 x, const GlobalSolveParams& params = {}, std::optional<Vec3> outward = {}) const;
 
  private:
-  struct Impl;
+  struct Pieces;
   const Volume* volume_;
-  std::vector<Impl> pieces_;  // one per Bezier piece (defined in src/inverse)
+  std::unique_ptr<const Pieces> pieces_;  // the Bezier pieces and their index (src/inverse)
   double typical_abs_det_ = 1.0;
 };
 
