@@ -714,5 +714,32 @@ TEST(DitherTest, RejectsBadInput) {
   EXPECT_THROW(InsideMask(4, -4), Error);
 }
 
+TEST(MaterialGridCheck, FindsTheBadPixelForEveryMaterialCount) {
+  // The row check is compiled for one to four materials and for any count; each must find
+  // the same first bad pixel as the message names it.
+  for (int m = 1; m <= 6; ++m) {
+    MaterialGrid grid(7, 5, m);
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 7; ++x)
+        for (int k = 0; k < m; ++k) grid.at(x, y, k) = 1.0f / static_cast<float>(m + 1);
+    EXPECT_NO_THROW(grid.check_fractions(1e-5f)) << m;
+    for (const float bad : {NAN, -0.5f, 1.5f, INFINITY}) {
+      MaterialGrid broken = grid;
+      broken.at(4, 3, m - 1) = bad;
+      try {
+        broken.check_fractions(1e-5f);
+        ADD_FAILURE() << "m = " << m << ", value " << bad << " passed";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("pixel (4, 3)"), std::string::npos) << e.what();
+      }
+    }
+    MaterialGrid crowded = grid;
+    for (int k = 0; k < m; ++k) crowded.at(6, 4, k) = 1.0f / static_cast<float>(m) + 0.01f;
+    if (m > 1) {
+      EXPECT_THROW(crowded.check_fractions(1e-5f), Error) << m;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace trivox
