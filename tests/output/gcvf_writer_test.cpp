@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "output/zip_writer.h"
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -33,10 +34,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 // Lists the archive with Python's zipfile: per entry its name, size, SHA-256, method and
 // date; the configuration's fields parsed with xml.etree. Throws when python3 fails.
@@ -152,22 +150,9 @@ TEST(GcvfWriter, IdenticalForOneAndThreeThreadsAndAfterResume) {
   const JobParams a = gcvf_params("t1", 1);
   run_slice_job(slicer, a);
   const JobParams b = gcvf_params("t3", 3);
-  std::atomic<bool> stop{false};
-  class StopAfter final : public ProgressSink {
-   public:
-    explicit StopAfter(std::atomic<bool>* f) : f_(f) {}
-    void on_layer_done(int done, int) override {
-      if (done >= 3) f_->store(true);
-    }
-    std::atomic<bool>* f_;
-  } sink(&stop);
-  JobParams first = b;
-  first.stop = &stop;
-  EXPECT_TRUE(run_slice_job(slicer, first, &sink).interrupted);
+  EXPECT_TRUE(test::slice_until_stopped(slicer, b, 3).interrupted);
   EXPECT_FALSE(fs::exists(b.output_dir / "gcvf/stack.gcvf"));
-  JobParams again = b;
-  again.resume = true;
-  run_slice_job(slicer, again);
+  test::slice_resumed(slicer, b);
   const std::string bytes = read_bytes(a.output_dir / "gcvf/stack.gcvf");
   ASSERT_GT(bytes.size(), 100u);
   EXPECT_EQ(bytes, read_bytes(b.output_dir / "gcvf/stack.gcvf"));

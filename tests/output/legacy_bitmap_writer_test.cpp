@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
@@ -20,10 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 struct Bmp1 {
   int width = 0, height = 0;

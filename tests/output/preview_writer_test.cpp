@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
@@ -22,10 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 Scene preview_scene() {
   Scene s = test::scene_with({test::gradient_cell(test::box_volume({0, 0, 0}, {4, 2, 0.4}))}, 2);
@@ -104,22 +102,9 @@ TEST(PreviewWriter, IdenticalForOneAndThreeThreadsAndAfterResume) {
   const JobParams a = preview_params("t1", 1);
   run_slice_job(slicer, a);
   const JobParams b = preview_params("t3", 3);
-  std::atomic<bool> stop{false};
-  class StopAfter final : public ProgressSink {
-   public:
-    explicit StopAfter(std::atomic<bool>* f) : f_(f) {}
-    void on_layer_done(int done, int) override {
-      if (done >= 7) f_->store(true);
-    }
-    std::atomic<bool>* f_;
-  } sink(&stop);
-  JobParams first = b;
-  first.stop = &stop;
-  EXPECT_TRUE(run_slice_job(slicer, first, &sink).interrupted);
+  EXPECT_TRUE(test::slice_until_stopped(slicer, b, 7).interrupted);
   EXPECT_FALSE(fs::exists(b.output_dir / "preview/cut_xz.png"));  // stack files only when complete
-  JobParams again = b;
-  again.resume = true;
-  run_slice_job(slicer, again);
+  test::slice_resumed(slicer, b);
   for (const char* f : {"contact_sheet.png", "cut_xy.png", "cut_xz.png", "cut_yz.png"})
     EXPECT_EQ(read_bytes(a.output_dir / "preview" / f), read_bytes(b.output_dir / "preview" / f)) << f;
   EXPECT_EQ(read_bytes(a.output_dir / "manifest.json"), read_bytes(b.output_dir / "manifest.json"));

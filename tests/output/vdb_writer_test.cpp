@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
@@ -26,10 +27,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 // Off the origin, so that a wrong translation shows.
 Scene vdb_scene() {
@@ -105,22 +103,9 @@ TEST(VdbWriter, IdenticalForOneAndThreeThreadsAndAfterResume) {
   const JobParams a = vdb_params("t1", 1);
   run_slice_job(slicer, a);
   const JobParams b = vdb_params("t3", 3);
-  std::atomic<bool> stop{false};
-  class StopAfter final : public ProgressSink {
-   public:
-    explicit StopAfter(std::atomic<bool>* f) : f_(f) {}
-    void on_layer_done(int done, int) override {
-      if (done >= 4) f_->store(true);
-    }
-    std::atomic<bool>* f_;
-  } sink(&stop);
-  JobParams first = b;
-  first.stop = &stop;
-  EXPECT_TRUE(run_slice_job(slicer, first, &sink).interrupted);
+  EXPECT_TRUE(test::slice_until_stopped(slicer, b, 4).interrupted);
   EXPECT_FALSE(fs::exists(b.output_dir / "vdb/stack.vdb"));
-  JobParams again = b;
-  again.resume = true;
-  run_slice_job(slicer, again);
+  test::slice_resumed(slicer, b);
   const std::string bytes = read_bytes(a.output_dir / "vdb/stack.vdb");
   ASSERT_GT(bytes.size(), 64u);
   EXPECT_EQ(bytes, read_bytes(b.output_dir / "vdb/stack.vdb"));

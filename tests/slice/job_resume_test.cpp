@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
@@ -27,10 +28,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 fs::path fresh_dir(const std::string& name) {
   // The process id keeps test processes that CTest runs side by side apart.
@@ -71,19 +69,6 @@ JobParams params_for(const fs::path& dir, int threads) {
   p.manifest_interval_seconds = 0;
   return p;
 }
-
-// Raises the stop flag once `after` layers are complete.
-class StopAfter final : public ProgressSink {
- public:
-  StopAfter(std::atomic<bool>* flag, int after) : flag_(flag), after_(after) {}
-  void on_layer_done(int done, int) override {
-    if (done >= after_) flag_->store(true);
-  }
-
- private:
-  std::atomic<bool>* flag_;
-  int after_;
-};
 
 class JobResume : public ::testing::Test {
  protected:
@@ -142,7 +127,7 @@ TEST_F(JobResume, StoppedAtTwentyRandomLayerCountsAndResumedEndsByteIdentical) {
     std::atomic<bool> stop{false};
     const int after = std::uniform_int_distribution<int>(0, 26)(rng);
     if (after == 0) stop = true;
-    StopAfter sink(&stop, after);
+    test::StopAfterLayers sink(&stop, after);
     JobParams p = params_for(dir, 1 + trial % 3);
     p.stop = &stop;
     // Half the trials keep the manifest lagging (written only at the start and the end of a

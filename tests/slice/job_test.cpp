@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
@@ -18,10 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
+using test::read_bytes;
 
 // A job with two materials: a gradient box and a ring cell on top of it.
 Scene two_material_scene() {

@@ -1,0 +1,49 @@
+// Helpers for the tests of whole slice jobs: a file's bytes, and a job stopped part way (as
+// Ctrl-C stops it) and then resumed.
+#pragma once
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "trivox/slice/job.h"
+
+namespace trivox::test {
+
+// The bytes of a file; empty when it cannot be read.
+inline std::string read_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Raises a job's stop flag once `after` layers are complete.
+class StopAfterLayers final : public ProgressSink {
+ public:
+  StopAfterLayers(std::atomic<bool>* flag, int after) : flag_(flag), after_(after) {}
+  void on_layer_done(int done, int) override {
+    if (done >= after_) flag_->store(true);
+  }
+
+ private:
+  std::atomic<bool>* flag_;
+  int after_;
+};
+
+// Runs `params` as a job that is stopped once `stop_after_layers` layers are complete (0:
+// before the first); returns what the job reports.
+inline JobStats slice_until_stopped(const Slicer& slicer, JobParams params, int stop_after_layers) {
+  std::atomic<bool> stop{stop_after_layers == 0};
+  StopAfterLayers sink(&stop, stop_after_layers);
+  params.stop = &stop;
+  return run_slice_job(slicer, params, &sink);
+}
+
+// Runs `params` again with resume, to the end.
+inline JobStats slice_resumed(const Slicer& slicer, JobParams params) {
+  params.resume = true;
+  return run_slice_job(slicer, params);
+}
+
+}  // namespace trivox::test
