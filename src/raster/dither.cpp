@@ -256,8 +256,8 @@ std::uint8_t nearest_pure_label(std::span<const float> f) noexcept {
   return best;
 }
 
-// dither_with for the scene's material count: one instantiation per count from 1 to 4
-// materials, the general loop beyond.
+// dither_with for the scene's material count: one instantiation per count from 1 to 8
+// materials (a J850 takes 7, plus support), the general loop beyond.
 template <class Kernel>
 void dither_with_components(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
                             detail::ScanOrientation orientation, LabelImage& labels) {
@@ -266,6 +266,10 @@ void dither_with_components(const MaterialGrid& fractions, const InsideMask& ins
     case 2: return dither_with<Kernel, 3>(fractions, inside, serpentine, orientation, labels);
     case 3: return dither_with<Kernel, 4>(fractions, inside, serpentine, orientation, labels);
     case 4: return dither_with<Kernel, 5>(fractions, inside, serpentine, orientation, labels);
+    case 5: return dither_with<Kernel, 6>(fractions, inside, serpentine, orientation, labels);
+    case 6: return dither_with<Kernel, 7>(fractions, inside, serpentine, orientation, labels);
+    case 7: return dither_with<Kernel, 8>(fractions, inside, serpentine, orientation, labels);
+    case 8: return dither_with<Kernel, 9>(fractions, inside, serpentine, orientation, labels);
     default: return dither_with<Kernel, 0>(fractions, inside, serpentine, orientation, labels);
   }
 }

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 
 namespace trivox {
 
@@ -61,22 +62,22 @@ namespace {
 
 namespace {
 
-// Whether every pixel of a row has its fractions in [lo, hi] and summing to at most hi: one
-// pass without branches or early exits (NaN and infinities fail the comparisons), so that
-// with kM materials known at compile time it vectorizes. kM = 0: any count, m.
+// Whether every pixel of a row has its fractions in [lo, hi] and summing to at most hi, in
+// two passes without branches or early exits that the compiler can vectorize: the range of
+// every value (contiguous; NaN fails both comparisons), then each pixel's sum, added in the
+// same order as the message's loop adds it. kM = 0: any count, m.
 template <std::size_t kM>
 bool row_in_range(const float* f, int width_px, std::size_t m, float lo, float hi) noexcept {
   const std::size_t n = kM > 0 ? kM : m;
-  int bad = 0;  // bitwise, not logical, operators: no short-circuit branches
-  for (int x = 0; x < width_px; ++x, f += n) {
+  const std::size_t count = static_cast<std::size_t>(width_px) * n;
+  int ok = 1;
+  for (std::size_t i = 0; i < count; ++i) ok &= static_cast<int>(f[i] >= lo) & static_cast<int>(f[i] <= hi);
+  for (std::size_t x = 0; x < count; x += n) {
     float sum = 0.0f;
-    for (std::size_t k = 0; k < n; ++k) {
-      bad |= static_cast<int>(!(f[k] >= lo)) | static_cast<int>(!(f[k] <= hi));
-      sum += f[k];
-    }
-    bad |= static_cast<int>(!(sum <= hi));
+    for (std::size_t k = 0; k < n; ++k) sum += f[x + k];
+    ok &= static_cast<int>(sum <= hi);
   }
-  return bad == 0;
+  return ok != 0;
 }
 
 }  // namespace
@@ -88,12 +89,12 @@ void MaterialGrid::check_fractions(float tolerance) const {
   }
   const float lo = -tolerance;
   const float hi = 1.0f + tolerance;
+  // Compiled for one to eight materials (a J850 takes 7, plus support), generic beyond.
   using RowCheck = bool (*)(const float*, int, std::size_t, float, float) noexcept;
-  const RowCheck row_ok = m() == 1   ? &row_in_range<1>
-                          : m() == 2 ? &row_in_range<2>
-                          : m() == 3 ? &row_in_range<3>
-                          : m() == 4 ? &row_in_range<4>
-                                     : &row_in_range<0>;
+  constexpr RowCheck kRowChecks[] = {&row_in_range<0>, &row_in_range<1>, &row_in_range<2>,
+                                     &row_in_range<3>, &row_in_range<4>, &row_in_range<5>,
+                                     &row_in_range<6>, &row_in_range<7>, &row_in_range<8>};
+  const RowCheck row_ok = m() < std::size(kRowChecks) ? kRowChecks[m()] : &row_in_range<0>;
   for (int y = 0; y < height_px_; ++y) {
     if (row_ok(row(y).data(), width_px_, m(), lo, hi)) continue;
     // Find the first bad pixel of the row for the message.
