@@ -120,7 +120,7 @@ inline void spread_all(const std::int32_t* e, std::size_t num_components,
 // is slot (y + r) % kRows. After row y is done its slot is cleared and becomes row
 // y + kRows.
 // Logical row y is image row image_row(y) (see detail::ScanOrientation).
-// kComponents is m + 1 when it is known at compile time (the common scenes with one to four
+// kComponents is m + 1 when it is known at compile time (scenes with one to eight
 // materials: the per-component loops then unroll), or 0 for any other count.
 template <class Kernel, std::size_t kComponents>
 void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
