@@ -25,6 +25,13 @@ std::vector<Fixture> regular_fixtures() {
   f.push_back({"annulus sector (rational)", test::annulus_sector(1.0, 2.0, 0.7)});
   f.push_back({"twisted bent cubic 8x8x8", test::twisted_bent_box(40, 30, 60)});
   f.push_back({"twisted bent quadratic 5x5x5", test::twisted_bent_box(3, 2, 1, 5, 3)});
+  // Non-uniform knots (a double knot in u, uneven spans in v and w), other proportions, one
+  // only twisted (over a full radian) and one only bent.
+  const KnotVector ku(4, {0, 0, 0, 0, 0.15, 0.4, 0.4, 0.8, 1, 1, 1, 1});
+  const KnotVector kv(4, {0, 0, 0, 0, 0.3, 0.35, 0.9, 1, 1, 1, 1});
+  const KnotVector kw(4, {0, 0, 0, 0, 0.1, 0.2, 0.5, 0.6, 0.95, 1, 1, 1, 1});
+  f.push_back({"twisted cubic, non-uniform 8x7x9", test::twisted_bent_volume(ku, kv, kw, {25, 10, 80}, 1.2, 0.0)});
+  f.push_back({"bent cubic, non-uniform 7x9x8", test::twisted_bent_volume(kv, kw, ku, {12, 30, 20}, 0.0, 0.45)});
   f.push_back({"left-handed annulus",
                Volume(test::annulus_sector(1.0, 2.0, 0.7).spline().transformed([](std::span<double> p) { p[1] = -p[1]; }))});
   return f;

@@ -48,31 +48,45 @@ Volume annulus_sector(double r0, double r1, double h) {
 
 Volume cylinder_sector(double r, double h) { return annulus_sector(0.0, r, h); }
 
-Volume twisted_bent_box(double sx, double sy, double sz, int ctrl, int order) {
-  // Greville abscissae of a clamped uniform basis place control points so that the identity
-  // map is reproduced; then a twist about the z axis and a bend along x deform it smoothly.
-  const KnotVector kv = KnotVector::clamped_uniform(order, ctrl);
+namespace {
+// Control points at the Greville abscissae of a clamped basis reproduce the identity map
+// (the span midpoints stand in for order 1).
+std::vector<double> greville_points(const KnotVector& kv) {
+  const int ctrl = kv.num_ctrl(), order = kv.order();
   std::vector<double> g(static_cast<std::size_t>(ctrl));
   for (int i = 0; i < ctrl; ++i) {
     double s = 0;
     for (int j = 1; j < order; ++j) s += kv[i + j];
     g[static_cast<std::size_t>(i)] = order > 1 ? s / (order - 1) : (i + 0.5) / ctrl;
   }
+  return g;
+}
+}  // namespace
+
+Volume twisted_bent_volume(const KnotVector& ku, const KnotVector& kv, const KnotVector& kw, Vec3 size,
+                           double twist, double bend) {
+  // The identity map, then a twist about the z axis and a bend along x deform it smoothly.
+  const std::vector<double> gu = greville_points(ku), gv = greville_points(kv), gw = greville_points(kw);
+  const double sx = size.x, sy = size.y, sz = size.z;
   std::vector<double> pts;
-  for (int k = 0; k < ctrl; ++k)
-    for (int j = 0; j < ctrl; ++j)
-      for (int i = 0; i < ctrl; ++i) {
-        const double u = g[static_cast<std::size_t>(i)], v = g[static_cast<std::size_t>(j)], t = g[static_cast<std::size_t>(k)];
-        const double angle = 0.35 * t;  // twist: radians over the height
+  for (double t : gw)
+    for (double v : gv)
+      for (double u : gu) {
+        const double angle = twist * t;  // radians over the height
         // Rows bow in the plane of each layer too (a parabola in v), so that no layer is an
         // affine image of the parameter plane.
         const double x0 = (u - 0.5) * sx + 0.08 * sx * (v - 0.5) * (v - 0.5), y0 = (v - 0.5) * sy;
         const double x = std::cos(angle) * x0 - std::sin(angle) * y0;
         const double y = std::sin(angle) * x0 + std::cos(angle) * y0;
-        const double bend = 0.15 * sx * (t - 0.5) * (t - 0.5);  // bend the column along x
-        pts.insert(pts.end(), {x + bend + 0.5 * sx, y + 0.5 * sy, t * sz});
+        const double shift = bend * sx * (t - 0.5) * (t - 0.5);  // bend the column along x
+        pts.insert(pts.end(), {x + shift + 0.5 * sx, y + 0.5 * sy, t * sz});
       }
-  return Volume(TensorSpline({kv, kv, kv}, 3, std::move(pts)));
+  return Volume(TensorSpline({ku, kv, kw}, 3, std::move(pts)));
+}
+
+Volume twisted_bent_box(double sx, double sy, double sz, int ctrl, int order) {
+  const KnotVector kv = KnotVector::clamped_uniform(order, ctrl);
+  return twisted_bent_volume(kv, kv, kv, {sx, sy, sz}, 0.35, 0.15);
 }
 
 TensorSpline random_rational_spline(std::mt19937& rng) {
