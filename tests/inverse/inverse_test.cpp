@@ -95,6 +95,44 @@ TEST(Inverse, PointsOutsideAreReportedOutside) {
   EXPECT_EQ(invert(v, {1.5, 1.5, 0.35}, v.domain().center()).status, InverseStatus::kOutside);
 }
 
+// Newton's two other outcomes. On the cylinder sector's axis (u = 0) dV/dv vanishes: a run
+// that starts there stops at once, singular.
+TEST(Inverse, NewtonStartedOnTheCollapsedAxisIsSingular) {
+  const Volume v = test::cylinder_sector(1.0, 1.0);
+  const Vec3 x = v.evaluate({0.5, 0.5, 0.5});
+  for (Vec3 hint : {Vec3{0.0, 0.5, 0.5}, Vec3{0.0, 0.0, 0.0}, Vec3{0.0, 1.0, 0.9}}) {
+    const InverseResult r = invert(v, x, hint);
+    EXPECT_EQ(r.status, InverseStatus::kSingular);
+    EXPECT_EQ(r.iterations, 1);
+    EXPECT_EQ(r.uvw, hint);
+    EXPECT_NEAR(r.residual, norm(v.evaluate(hint) - x), 1e-15);
+  }
+  // Off the axis the same point is found.
+  const InverseResult off = invert(v, x, {0.1, 0.5, 0.5});
+  EXPECT_EQ(off.status, InverseStatus::kConverged);
+  EXPECT_LE(off.residual, 1e-8);
+}
+
+// With an iteration budget too small for a far start Newton says so; with the default
+// budget the same start converges.
+TEST(Inverse, NewtonOutOfIterationsReportsNoConvergence) {
+  const Volume v = test::annulus_sector(1.0, 2.0, 0.7);  // rational: every step is evaluated
+  const Vec3 x = v.evaluate({0.9, 0.9, 0.9});
+  const Vec3 far{0.0, 0.0, 0.0};
+  for (int budget : {1, 2}) {
+    InverseParams params;
+    params.max_iterations = budget;
+    const InverseResult r = invert(v, x, far, params);
+    EXPECT_EQ(r.status, InverseStatus::kNoConvergence) << budget;
+    EXPECT_EQ(r.iterations, budget);
+    EXPECT_GT(r.residual, params.residual_tolerance_model);
+  }
+  const InverseResult full = invert(v, x, far);
+  ASSERT_EQ(full.status, InverseStatus::kConverged);
+  EXPECT_GT(full.iterations, 2);
+  for (int d = 0; d < 3; ++d) EXPECT_NEAR(full.uvw[d], 0.9, 1e-8);
+}
+
 // A cube folded over itself along x: x(u) = quadratic Bezier with control values 0, 2, 0.5
 // rises to 1.25 and comes back, so points with 0.5 < x < 1.125... have two preimages in u.
 Volume folded_cube() {
