@@ -8,7 +8,8 @@
 //  * GlobalSolver::solve(): finds every preimage of x in the whole domain or proves there is
 //    none, by Bezier subdivision with bounding-box exclusion, an injectivity test that proves
 //    a box holds at most one preimage, and Newton in the surviving boxes.
-// Outside-the-volume is a result, not an error.
+// Outside-the-volume is a result, not an error. Every tolerance below, its unit and its
+// default are listed in docs/ARCHITECTURE.md, "Tolerances of the inverse map".
 #pragma once
 
 #include <memory>
