@@ -158,26 +158,57 @@ struct PieceAt {
   }
 };
 
+// Values at N parameters, the N evaluations interleaved loop by loop: they are
+// independent, so their latencies overlap where one evaluation alone would wait on each
+// multiply-add. Every point goes through exactly the same operations as with N = 1 (the
+// single-point evaluator is this function's N = 1 instance), so the results are identical.
+template <int KU, int KV, int KW, int N>
+void power_evaluate_n(const PowerForm& f, const Vec3* uvw, Vec3* out) noexcept {
+  const V4* c[N];
+  double ps[N][KU], pt[N][KV], pr[N][KW];
+  for (int n = 0; n < N; ++n) {
+    const PieceAt at(f, uvw[n]);
+    c[n] = at.coefficients;
+    const Powers<KU> s(at.local[0]);
+    const Powers<KV> t(at.local[1]);
+    const Powers<KW> r(at.local[2]);
+    for (int i = 0; i < KU; ++i) ps[n][i] = s.p[i];
+    for (int j = 0; j < KV; ++j) pt[n][j] = t.p[j];
+    for (int k = 0; k < KW; ++k) pr[n][k] = r.p[k];
+  }
+  V4 acc[N];
+  for (int n = 0; n < N; ++n) acc[n] = V4{};
+  for (int k = 0; k < KW; ++k) {
+    V4 plane[N];
+    for (int n = 0; n < N; ++n) plane[n] = V4{};
+    for (int j = 0; j < KV; ++j)
+      for (int n = 0; n < N; ++n) {
+        const V4* row = c[n] + KU * (j + KV * k);
+        V4 line = row[0];
+        for (int i = 1; i < KU; ++i) line += ps[n][i] * row[i];
+        plane[n] += pt[n][j] * line;
+      }
+    for (int n = 0; n < N; ++n) acc[n] += pr[n][k] * plane[n];
+  }
+  for (int n = 0; n < N; ++n) {
+    const double inv = 1.0 / acc[n][3];
+    out[n] = {acc[n][0] * inv, acc[n][1] * inv, acc[n][2] * inv};
+  }
+}
+
 template <int KU, int KV, int KW>
 Vec3 power_evaluate(const PowerForm& f, Vec3 uvw) noexcept {
-  const PieceAt at(f, uvw);
-  const V4* c = at.coefficients;
-  const Powers<KU> ps(at.local[0]);
-  const Powers<KV> pt(at.local[1]);
-  const Powers<KW> pr(at.local[2]);
-  V4 acc{};
-  for (int k = 0; k < KW; ++k) {
-    V4 plane{};
-    for (int j = 0; j < KV; ++j) {
-      const V4* row = c + KU * (j + KV * k);
-      V4 line = row[0];
-      for (int i = 1; i < KU; ++i) line += ps.p[i] * row[i];
-      plane += pt.p[j] * line;
-    }
-    acc += pr.p[k] * plane;
-  }
-  const double inv = 1.0 / acc[3];
-  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
+  Vec3 out;
+  power_evaluate_n<KU, KV, KW, 1>(f, &uvw, &out);
+  return out;
+}
+
+// Groups of four, then the rest one by one.
+template <int KU, int KV, int KW>
+void power_evaluate_many(const PowerForm& f, const Vec3* uvw, Vec3* out, std::size_t count) noexcept {
+  std::size_t i = 0;
+  for (; i + 4 <= count; i += 4) power_evaluate_n<KU, KV, KW, 4>(f, uvw + i, out + i);
+  for (; i < count; ++i) power_evaluate_n<KU, KV, KW, 1>(f, uvw + i, out + i);
 }
 
 template <int KU, int KV, int KW>
@@ -210,15 +241,23 @@ void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& ja
 
 constexpr int kFirst = 2, kCount = kMaxPowerOrder - kFirst + 1;
 
+struct Kernels {
+  PowerEvaluateFn value;
+  PowerEvaluateJacobianFn jacobian;
+  PowerEvaluateManyFn many;
+};
+
+template <std::size_t I>
+constexpr Kernels kernels_for() {
+  constexpr int ku = kFirst + static_cast<int>(I % kCount);
+  constexpr int kv = kFirst + static_cast<int>((I / kCount) % kCount);
+  constexpr int kw = kFirst + static_cast<int>(I / (kCount * kCount));
+  return {&power_evaluate<ku, kv, kw>, &power_evaluate_jacobian<ku, kv, kw>, &power_evaluate_many<ku, kv, kw>};
+}
+
 template <std::size_t... I>
 constexpr auto make_table(std::index_sequence<I...>) {
-  return std::array<std::pair<PowerEvaluateFn, PowerEvaluateJacobianFn>, sizeof...(I)>{
-      std::pair<PowerEvaluateFn, PowerEvaluateJacobianFn>{
-          &power_evaluate<kFirst + static_cast<int>(I % kCount), kFirst + static_cast<int>((I / kCount) % kCount),
-                          kFirst + static_cast<int>(I / (kCount * kCount))>,
-          &power_evaluate_jacobian<kFirst + static_cast<int>(I % kCount),
-                                   kFirst + static_cast<int>((I / kCount) % kCount),
-                                   kFirst + static_cast<int>(I / (kCount * kCount))>}...};
+  return std::array<Kernels, sizeof...(I)>{kernels_for<I>()...};
 }
 
 constexpr auto kTable = make_table(std::make_index_sequence<kCount * kCount * kCount>{});
@@ -232,12 +271,17 @@ bool supported(int k) noexcept { return k >= kFirst && k <= kMaxPowerOrder; }
 
 PowerEvaluateFn select_power_evaluate(int ku, int kv, int kw) noexcept {
   if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
-  return kTable[slot(ku, kv, kw)].first;
+  return kTable[slot(ku, kv, kw)].value;
 }
 
 PowerEvaluateJacobianFn select_power_evaluate_jacobian(int ku, int kv, int kw) noexcept {
   if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
-  return kTable[slot(ku, kv, kw)].second;
+  return kTable[slot(ku, kv, kw)].jacobian;
+}
+
+PowerEvaluateManyFn select_power_evaluate_many(int ku, int kv, int kw) noexcept {
+  if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
+  return kTable[slot(ku, kv, kw)].many;
 }
 
 }  // namespace trivox::detail

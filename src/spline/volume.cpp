@@ -41,6 +41,7 @@ Volume::Volume(TensorSpline spline, const VolumeOptions& options) : spline_(std:
     if (detail::build_power_form(data(), *power, options.power_form_max_bytes)) {
       power_ = std::move(power);
       power_evaluate_fn_ = detail::select_power_evaluate(k[0], k[1], k[2]);
+      power_evaluate_many_fn_ = detail::select_power_evaluate_many(k[0], k[1], k[2]);
       power_evaluate_jacobian_fn_ = detail::select_power_evaluate_jacobian(k[0], k[1], k[2]);
     }
   }
@@ -59,9 +60,26 @@ Vec3 Volume::evaluate(Vec3 uvw) const noexcept {
   return evaluate_fn_(data(), uvw);
 }
 
+void Volume::evaluate_many(std::span<const Vec3> uvw, std::span<Vec3> out) const noexcept {
+  if (power_) return power_evaluate_many_fn_(*power_, uvw.data(), out.data(), uvw.size());
+  const detail::VolumeData d = data();
+  for (std::size_t i = 0; i < uvw.size(); ++i) out[i] = evaluate_fn_(d, uvw[i]);
+}
+
 void Volume::evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noexcept {
   if (power_) return power_evaluate_jacobian_fn_(*power_, uvw, value, jacobian);
   evaluate_jacobian_fn_(data(), uvw, value, jacobian);
+}
+
+ParamBox Volume::piece_box(Vec3 uvw) const noexcept {
+  ParamBox box;
+  for (int d = 0; d < 3; ++d) {
+    const KnotVector& kv = spline_.knots(d);
+    const auto span = static_cast<std::size_t>(kv.find_span(std::clamp(uvw[d], kv.lo(), kv.hi())));
+    box.lo[d] = kv.knots()[span];
+    box.hi[d] = kv.knots()[span + 1];
+  }
+  return box;
 }
 
 Box3 Volume::bounds(const ParamBox& box) const noexcept {

@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "trivox/math.h"
@@ -55,8 +56,19 @@ class Volume {
   // V(u,v,w). Parameters are clamped to the domain.
   Vec3 evaluate(Vec3 uvw) const noexcept;
 
+  // V at several parameters: out[i] = evaluate(uvw[i]), bit for bit. The power form
+  // interleaves up to four independent evaluations, so their latencies overlap (for callers
+  // with several points whose answers do not depend on each other). out.size() must equal
+  // uvw.size().
+  void evaluate_many(std::span<const Vec3> uvw, std::span<Vec3> out) const noexcept;
+
   // V and its Jacobian (column c = dV/d(param c)) in one pass.
   void evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noexcept;
+
+  // The parameter box of the polynomial piece (knot span in each direction) holding uvw,
+  // with the knot-span convention of evaluation (the span to the right at an interior
+  // knot, the last span at the domain's upper end). Parameters are clamped to the domain.
+  ParamBox piece_box(Vec3 uvw) const noexcept;
 
   // Box of all Euclidean control points: contains the whole image.
   const Box3& bounds() const noexcept { return bounds_; }
@@ -86,6 +98,7 @@ class Volume {
   // The power form, when used (immutable, so copies of the volume share it).
   std::shared_ptr<const detail::PowerForm> power_;
   Vec3 (*power_evaluate_fn_)(const detail::PowerForm&, Vec3) noexcept = nullptr;
+  void (*power_evaluate_many_fn_)(const detail::PowerForm&, const Vec3*, Vec3*, std::size_t) noexcept = nullptr;
   void (*power_evaluate_jacobian_fn_)(const detail::PowerForm&, Vec3, Vec3&, Mat3&) noexcept = nullptr;
   detail::VolumeData data() const noexcept;
 };
