@@ -1,6 +1,7 @@
 #include "cell_tracer.h"
 
 #include <algorithm>
+#include <climits>
 #include <optional>
 
 #include "inverse/newton.h"
@@ -17,55 +18,133 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
   return *this;
 }
 
-CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px)
+namespace {
+
+constexpr ParamBox kNoPiece{{1, 1, 1}, {0, 0, 0}};  // empty: contains nothing
+
+// Row by row: a plain assignment of the 72-byte matrix can compile, in the tracer, to a
+// string move whose start-up cost is several times that of the nine loads and stores.
+inline void copy_jacobian(const Mat3& from, Mat3& to) noexcept {
+  for (std::size_t r = 0; r < 3; ++r) {
+    const double a = from.m[r][0], b = from.m[r][1], c = from.m[r][2];
+    to.m[r][0] = a;
+    to.m[r][1] = b;
+    to.m[r][2] = c;
+  }
+}
+
+}  // namespace
+
+CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px,
+                       int rows_in_flight)
     : volume_(volume),
       solver_(solver),
       params_(params),
-      cur_uvw_(static_cast<std::size_t>(width_px)),
-      prev_uvw_(static_cast<std::size_t>(width_px)),
-      cur_jac_(static_cast<std::size_t>(width_px)),
-      prev_jac_(static_cast<std::size_t>(width_px)),
-      cur_ok_(static_cast<std::size_t>(width_px), 0),
-      prev_ok_(static_cast<std::size_t>(width_px), 0) {}
-
-void CellTracer::begin_layer(double z_mm) {
-  z_mm_ = z_mm;
-  last_row_ = -2;
-  std::fill(cur_ok_.begin(), cur_ok_.end(), 0);
-  std::fill(prev_ok_.begin(), prev_ok_.end(), 0);
+      width_(width_px),
+      rows_in_flight_(std::max(1, rows_in_flight)),
+      ring_(static_cast<std::size_t>(rows_in_flight_) + 1) {
+  for (Row& r : ring_) {
+    r.uvw.resize(static_cast<std::size_t>(width_px));
+    r.jac.resize(static_cast<std::size_t>(width_px));
+    r.ok.assign(static_cast<std::size_t>(width_px), 0);
+  }
 }
 
-bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw, Vec3& seed_uvw) {
+void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans) {
+  r.row = row;
+  r.y_mm = y_mm;
+  r.spans = &spans;
+  r.span = 0;
+  r.done = false;
+  // Empty spans (first > last) hold no candidate.
+  while (r.span < spans.size() && spans[r.span].first > spans[r.span].second) ++r.span;
+  if (r.span == spans.size()) r.done = true;
+  else r.col = spans[r.span].first;
+  std::fill(r.ok.begin(), r.ok.end(), 0);
+  r.retry_prediction_at = 0;
+  r.piece = kNoPiece;
+  r.out.cols.clear();
+  r.out.uvw.clear();
+  r.out.xyz.clear();
+}
+
+Vec3 CellTracer::centre(const Row& r) const noexcept { return {layout_->x_of_col(r.col), r.y_mm, z_mm_}; }
+
+void CellTracer::advance(Row& r) {
+  const auto& spans = *r.spans;
+  if (r.col < spans[r.span].second) {
+    ++r.col;
+    return;
+  }
+  do ++r.span;
+  while (r.span < spans.size() && spans[r.span].first > spans[r.span].second);
+  if (r.span == spans.size()) r.done = true;
+  else r.col = spans[r.span].first;
+}
+
+void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed) {
+  const auto c = static_cast<std::size_t>(r.col);
+  r.ok[c] = 1;
+  r.uvw[c] = seed;
+  ++counters_.inside;
+  r.out.cols.push_back(r.col);
+  r.out.uvw.push_back(uvw);
+  r.out.xyz.push_back(x);
+}
+
+// Along a row the inverse map is smooth: the cubic through the last four solutions predicts
+// the next one to O(pitch^4), usually well within the residual tolerance, so a single
+// value-only evaluation settles the pixel. Where the map bends too fast for it (small or
+// strongly curved cells), a failed guess costs an evaluation, so after a failure the next
+// few pixels go straight to Newton.
+bool CellTracer::prediction(Row& r, Vec3& guess) {
+  const TracingStrategy s = params_.tracing;
+  if (s != TracingStrategy::kPredict && s != TracingStrategy::kFlood) return false;
+  const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
-  const int width = static_cast<int>(cur_ok_.size());
+  if (col < 4 || col < r.retry_prediction_at || !r.ok[c - 1] || !r.ok[c - 2] || !r.ok[c - 3] || !r.ok[c - 4])
+    return false;
+  guess = 4.0 * (r.uvw[c - 1] + r.uvw[c - 3]) - 6.0 * r.uvw[c - 2] - r.uvw[c - 4];
+  // The extrapolation assumes one polynomial piece: where the row crosses a knot, the
+  // inverse map's higher derivatives jump and the guess would usually miss. Such pixels go
+  // to Newton from the neighbour, without backing off, and extrapolation resumes once four
+  // solutions lie in the new piece.
+  if (!r.piece.contains(r.uvw[c - 1])) r.piece = volume_.piece_box(r.uvw[c - 1]);
+  if (!r.piece.contains(r.uvw[c - 4]) || !r.piece.contains(guess)) return false;
+  if (!volume_.domain().contains(guess)) {
+    r.retry_prediction_at = col + kPredictionBackoff;
+    return false;
+  }
+  return true;
+}
+
+bool CellTracer::accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value) {
+  ++counters_.newton_evals;
+  const Vec3 residual = x - value;
+  const double tol = params_.newton.residual_tolerance_model;
+  if (!(dot(residual, residual) <= tol * tol)) {  // squared: no root per pixel
+    r.retry_prediction_at = r.col + kPredictionBackoff;
+    return false;
+  }
+  const auto c = static_cast<std::size_t>(r.col);
+  // The neighbour's Jacobian is still a good predictor for the next row.
+  const Mat3& jacobian = r.jac[c - 1];
+  copy_jacobian(jacobian, r.jac[c]);
+  // The extrapolation weighs the last solutions by 4, -6, 4, -1, so their errors (up to the
+  // tolerance) would grow along the row. The seed kept for the next pixels takes a Newton
+  // step with the neighbour's Jacobian: no evaluation, and it shrinks that error by the
+  // Jacobian's change over a pixel. The pixel's own answer stays the checked `guess`.
+  Vec3 seed = guess, step;
+  if (solve3(jacobian, residual, step, 0.0)) seed = guess + step;
+  record(r, x, guess, seed);
+  return true;
+}
+
+void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
+  const int col = r.col;
+  const auto c = static_cast<std::size_t>(col);
   const TracingStrategy s = params_.tracing;
   const bool predicts = s == TracingStrategy::kPredict || s == TracingStrategy::kFlood;
-  // Along a row the inverse map is smooth: the quadratic through the last three solutions
-  // predicts this one to O(pitch^3), usually within the residual tolerance, so a single
-  // value-only evaluation settles the pixel. Otherwise Newton from the neighbours decides.
-  // Where the map bends too fast for it (small or strongly curved cells), a failed guess
-  // costs an evaluation, so after a failure the next few pixels go straight to Newton.
-  if (predicts && col >= 3 && col >= retry_prediction_at_ && cur_ok_[c - 1] && cur_ok_[c - 2] && cur_ok_[c - 3]) {
-    const Vec3 guess = 3.0 * (cur_uvw_[c - 1] - cur_uvw_[c - 2]) + cur_uvw_[c - 3];
-    if (volume_.domain().contains(guess)) {
-      ++counters_.newton_evals;
-      const Vec3 residual = x - volume_.evaluate(guess);
-      const double tol = params_.newton.residual_tolerance_model;
-      if (dot(residual, residual) <= tol * tol) {  // squared: no root per pixel
-        uvw = seed_uvw = guess;
-        cur_jac_[c] = cur_jac_[c - 1];  // still a good predictor for the next row
-        // The extrapolation weighs the last solutions by 3, -3, 1, so their errors (up to
-        // the tolerance) would grow along the row. The seed kept for the next pixels takes
-        // a Newton step with the neighbour's Jacobian: no evaluation, and it shrinks that
-        // error by the Jacobian's change over a pixel. The pixel's own answer stays the
-        // checked `guess`.
-        Vec3 step;
-        if (solve3(cur_jac_[c], residual, step, 0.0)) seed_uvw = guess + step;
-        return true;
-      }
-    }
-    retry_prediction_at_ = col + kPredictionBackoff;
-  }
   // Seeds in the order the strategy allows (Table 1 of the paper): the neighbour's solution,
   // Jacobian and pixel centre.
   struct Seed {
@@ -75,100 +154,140 @@ bool CellTracer::solve_pixel(Vec3 x, int col, Vec3& uvw, Vec3& seed_uvw) {
   };
   Seed seeds[6];
   int n = 0;
-  const double dx = pitch_x_, dy = pitch_y_;
+  const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
   const bool eight_neighbours = s == TracingStrategy::kFull || predicts;
-  if (s != TracingStrategy::kNone && col > 0 && cur_ok_[c - 1]) seeds[n++] = {&cur_uvw_[c - 1], &cur_jac_[c - 1], x - Vec3{dx, 0, 0}};
-  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && prev_ok_[c])
-    seeds[n++] = {&prev_uvw_[c], &prev_jac_[c], x + Vec3{0, dy, 0}};
+  auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
+  auto above_seed = [&](int k, Vec3 at) {
+    return Seed{&above->uvw[static_cast<std::size_t>(k)], &above->jac[static_cast<std::size_t>(k)], at};
+  };
+  if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = {&r.uvw[c - 1], &r.jac[c - 1], x - Vec3{dx, 0, 0}};
+  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && above_ok(col)) seeds[n++] = above_seed(col, x + Vec3{0, dy, 0});
   if (eight_neighbours) {
-    if (col > 0 && prev_ok_[c - 1]) seeds[n++] = {&prev_uvw_[c - 1], &prev_jac_[c - 1], x + Vec3{-dx, dy, 0}};
-    if (col + 1 < width && prev_ok_[c + 1]) seeds[n++] = {&prev_uvw_[c + 1], &prev_jac_[c + 1], x + Vec3{dx, dy, 0}};
+    if (col > 0 && above_ok(col - 1)) seeds[n++] = above_seed(col - 1, x + Vec3{-dx, dy, 0});
+    if (col + 1 < width_ && above_ok(col + 1)) seeds[n++] = above_seed(col + 1, x + Vec3{dx, dy, 0});
   }
   if (s == TracingStrategy::kFlood && n == 0) {
     // No neighbour is solved: the nearest solved pixel of the row above (either side), and
     // of this row to the left, as far as kFloodReach pixels away.
-    constexpr int kFloodReach = 64;
     for (int k = 2; k <= kFloodReach; ++k) {
-      if (col - k >= 0 && prev_ok_[c - static_cast<std::size_t>(k)]) {
-        seeds[n++] = {&prev_uvw_[c - static_cast<std::size_t>(k)], &prev_jac_[c - static_cast<std::size_t>(k)], x + Vec3{-k * dx, dy, 0}};
+      if (col - k >= 0 && above_ok(col - k)) {
+        seeds[n++] = above_seed(col - k, x + Vec3{-k * dx, dy, 0});
         break;
       }
-      if (col + k < width && prev_ok_[c + static_cast<std::size_t>(k)]) {
-        seeds[n++] = {&prev_uvw_[c + static_cast<std::size_t>(k)], &prev_jac_[c + static_cast<std::size_t>(k)], x + Vec3{k * dx, dy, 0}};
+      if (col + k < width_ && above_ok(col + k)) {
+        seeds[n++] = above_seed(col + k, x + Vec3{k * dx, dy, 0});
         break;
       }
     }
     for (int k = 2; k <= kFloodReach && col - k >= 0; ++k)
-      if (cur_ok_[c - static_cast<std::size_t>(k)]) {
-        seeds[n++] = {&cur_uvw_[c - static_cast<std::size_t>(k)], &cur_jac_[c - static_cast<std::size_t>(k)], x - Vec3{k * dx, 0, 0}};
+      if (r.ok[c - static_cast<std::size_t>(k)]) {
+        const auto from = c - static_cast<std::size_t>(k);
+        seeds[n++] = {&r.uvw[from], &r.jac[from], x - Vec3{k * dx, 0, 0}};
         break;
       }
   }
   std::optional<Vec3> outward;
   for (int i = 0; i < n; ++i) {
-    const InverseResult r =
-        invert_traced(volume_, x, *seeds[i].uvw, seeds[i].x, *seeds[i].jac, params_.newton, cur_jac_[c]);
-    counters_.newton_evals += r.iterations;
-    if (r.status == InverseStatus::kConverged) {
-      uvw = seed_uvw = r.uvw;
-      return true;
+    const InverseResult res =
+        invert_traced(volume_, x, *seeds[i].uvw, seeds[i].x, *seeds[i].jac, params_.newton, r.jac[c]);
+    counters_.newton_evals += res.iterations;
+    if (res.status == InverseStatus::kConverged) {
+      record(r, x, res.uvw, res.uvw);
+      return;
     }
-    if (r.status == InverseStatus::kOutside) {
+    if (res.status == InverseStatus::kOutside) {
       // Newton from a neighbour walked off a face: the other neighbours would follow it
       // there. The face's normal lets the global solver prove "outside" quickly.
-      outward = outward_hint(volume_, x, r.uvw);
+      outward = outward_hint(volume_, x, res.uvw);
       break;
     }
   }
   ++counters_.global_calls;
   const GlobalResult g = solver_.solve(x, params_.global, outward);
   switch (g.status) {
-    case GlobalStatus::kNone: return false;
+    case GlobalStatus::kNone: return;
     case GlobalStatus::kIncomplete:
       ++counters_.unresolved;
-      if (g.preimages.empty()) return false;
+      if (g.preimages.empty()) return;
       break;
     case GlobalStatus::kMultiple: ++counters_.folded; break;
     case GlobalStatus::kUnique:
     case GlobalStatus::kDegenerate: break;
   }
   // Deterministic choice: the preimages are sorted by (u, v, w).
-  uvw = seed_uvw = g.preimages.front().uvw;
+  const Vec3 uvw = g.preimages.front().uvw;
   Vec3 unused;
-  volume_.evaluate_jacobian(uvw, unused, cur_jac_[c]);
-  return true;
+  volume_.evaluate_jacobian(uvw, unused, r.jac[c]);
+  record(r, x, uvw, uvw);
 }
 
-void CellTracer::trace_row(const SliceLayout& L, int row, const std::vector<std::pair<int, int>>& spans, TracedRow& out) {
-  out.cols.clear();
-  out.uvw.clear();
-  out.xyz.clear();
-  if (row == last_row_ + 1) {
-    std::swap(cur_uvw_, prev_uvw_);
-    std::swap(cur_ok_, prev_ok_);
-    std::swap(cur_jac_, prev_jac_);
-  } else {
-    std::fill(prev_ok_.begin(), prev_ok_.end(), 0);
-  }
-  std::fill(cur_ok_.begin(), cur_ok_.end(), 0);
-  last_row_ = row;
-  retry_prediction_at_ = 0;
-  const double y = L.y_of_row(row);
-  pitch_x_ = L.pitch_x_mm;
-  pitch_y_ = L.pitch_y_mm;
-  for (const auto& [c0, c1] : spans)
-    for (int col = c0; col <= c1; ++col) {
-      ++counters_.candidates;
-      const Vec3 x{L.x_of_col(col), y, z_mm_};
-      Vec3 uvw, seed;
-      if (!solve_pixel(x, col, uvw, seed)) continue;
-      cur_ok_[static_cast<std::size_t>(col)] = 1;
-      cur_uvw_[static_cast<std::size_t>(col)] = seed;
-      ++counters_.inside;
-      out.cols.push_back(col);
-      out.uvw.push_back(uvw);
-      out.xyz.push_back(x);
+void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
+                             const std::function<void(int, const TracedRow&)>& on_row) {
+  layout_ = &layout;
+  z_mm_ = z_mm;
+  const auto slots = ring_.size();
+  // Rows with candidates, numbered in order: number q lives in slot q % slots, so the slots
+  // hold the rows in flight and the last finished one, which the first of them reads.
+  std::vector<int> rows;
+  for (int row = 0; row < static_cast<int>(spans.size()); ++row)
+    if (!spans[static_cast<std::size_t>(row)].empty()) rows.push_back(row);
+  const auto total = rows.size();
+  auto slot = [&](std::size_t q) -> Row& { return ring_[q % slots]; };
+  // The row above number q: its slot when it is the image row just above, else none.
+  auto above_of = [&](std::size_t q) -> const Row* {
+    return q > 0 && rows[q - 1] == rows[q] - 1 ? &slot(q - 1) : nullptr;
+  };
+
+  struct Pending {
+    Row* row;
+    const Row* above;
+    Vec3 x;
+  };
+  std::vector<Pending> pending;
+  std::vector<Vec3> guesses, values;
+  pending.reserve(ring_.size());
+  std::size_t oldest = 0, next = 0;
+  while (oldest < total) {
+    while (next < total && next < oldest + static_cast<std::size_t>(rows_in_flight_)) {
+      const int row = rows[next];
+      start_row(slot(next), row, layout.y_of_row(row), spans[static_cast<std::size_t>(row)]);
+      ++next;
     }
+    // Each row in flight solves pixels until one needs its row prediction evaluated (then
+    // waits for the batch) or until it would read a pixel of the row above not solved yet.
+    pending.clear();
+    guesses.clear();
+    for (std::size_t q = oldest; q < next; ++q) {
+      Row& r = slot(q);
+      const Row* above = above_of(q);
+      const int limit = above == nullptr || above->done ? INT_MAX : above->col - kFloodReach - 1;
+      while (!r.done && r.col <= limit) {
+        ++counters_.candidates;
+        const Vec3 x = centre(r);
+        Vec3 guess;
+        if (prediction(r, guess)) {
+          pending.push_back({&r, above, x});
+          guesses.push_back(guess);
+          break;
+        }
+        solve_from_neighbours(r, above, x);
+        advance(r);
+      }
+    }
+    values.resize(guesses.size());
+    volume_.evaluate_many(guesses, values);
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+      Row& r = *pending[i].row;
+      if (!accept_prediction(r, pending[i].x, guesses[i], values[i])) solve_from_neighbours(r, pending[i].above, pending[i].x);
+      advance(r);
+    }
+    while (oldest < next && slot(oldest).done) {
+      const Row& r = slot(oldest);
+      on_row(r.row, r.out);
+      ++oldest;
+    }
+  }
+  layout_ = nullptr;
 }
 
 }  // namespace trivox::detail

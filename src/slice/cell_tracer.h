@@ -1,9 +1,18 @@
 // Inverts every candidate pixel of one cell in one layer (lines 7-20 of Algorithm 1):
 // Newton seeded by already solved neighbours, as the tracing strategy allows, with the
 // global solver as the fallback that also decides pixels near the outline exactly.
+//
+// Along a row each pixel starts from its left neighbours, so one row is a chain of dependent
+// evaluations that leaves most of a core idle. The tracer therefore walks several rows at
+// once, each a fixed number of columns behind the row above (every pixel reads the row above
+// only up to kFloodReach columns ahead), and evaluates their row predictions together
+// (Volume::evaluate_many). Each pixel sees exactly the solved neighbours it would see if the
+// rows were traced one after the other, so the answers do not depend on how many rows are in
+// flight: one row at a time is the sequential reference the tests compare against.
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "scanline.h"
@@ -32,35 +41,67 @@ struct TracedRow {
 
 class CellTracer {
  public:
-  CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px);
+  // Rows traced at once by default: enough independent evaluations to fill the core.
+  static constexpr int kDefaultRowsInFlight = 4;
 
-  // Starts a new layer at height z.
-  void begin_layer(double z_mm);
-  // Solves the candidate spans of `row` (rows must come in increasing order, each once per
-  // layer; skipped rows simply leave no solved neighbours above).
-  void trace_row(const SliceLayout& layout, int row, const std::vector<std::pair<int, int>>& spans, TracedRow& out);
+  CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px,
+             int rows_in_flight = kDefaultRowsInFlight);
+
+  // Solves the candidate pixels of one layer at height z: every row of `spans` with
+  // candidates, rows in increasing order. `on_row(row, traced)` receives each such row once
+  // it and every row above it are done, in increasing row order; `traced` is valid during
+  // the call only.
+  void trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
+                   const std::function<void(int, const TracedRow&)>& on_row);
 
   const TraceCounters& counters() const noexcept { return counters_; }
 
+  // Pixels of the row above that a pixel may read as seeds, ahead of its own column.
+  static constexpr int kFloodReach = 64;
+
  private:
-  // Solves one pixel: `uvw` is its answer (within the residual tolerance), `seed_uvw` what
-  // later pixels start from (the answer, or a refinement of it that was not re-evaluated).
-  bool solve_pixel(Vec3 x, int col, Vec3& uvw, Vec3& seed_uvw);
+  // One row being traced: its candidates, the solutions so far (seeds for the pixels to the
+  // right and for the row below) and the predictor's state.
+  struct Row {
+    int row = -1;
+    double y_mm = 0;
+    const std::vector<std::pair<int, int>>* spans = nullptr;
+    std::size_t span = 0;
+    int col = 0;        // the next candidate
+    bool done = true;
+    std::vector<Vec3> uvw;   // per column: the seed kept for later pixels
+    std::vector<Mat3> jac;   // per column: the Jacobian near it, for prediction
+    std::vector<std::uint8_t> ok;  // per column: solved
+    int retry_prediction_at = 0;
+    ParamBox piece;          // the polynomial piece of the latest solution
+    TracedRow out;
+  };
+
+  void start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans);
+  // The row extrapolation's guess for the row's next pixel, when it should be tried (every
+  // pixel it uses solved, all in one polynomial piece with the guess, inside the domain).
+  bool prediction(Row& r, Vec3& guess);
+  // Whether the guess's value is within the tolerance of x; records the pixel if so, else
+  // backs the prediction off.
+  bool accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value);
+  // Newton from the solved neighbours in `r` and the row above (`above`, or none), then the
+  // global solver; records the pixel if it lies in the cell.
+  void solve_from_neighbours(Row& r, const Row* above, Vec3 x);
+  void record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed);
+  void advance(Row& r);
+  Vec3 centre(const Row& r) const noexcept;
 
   const Volume& volume_;
   const GlobalSolver& solver_;
   const SliceParams& params_;
+  int width_;
+  int rows_in_flight_;
   double z_mm_ = 0;
-  int last_row_ = -2;
-  // Seeds from the current and previous rows (solved flag per column).
-  std::vector<Vec3> cur_uvw_, prev_uvw_;
-  std::vector<Mat3> cur_jac_, prev_jac_;  // Jacobians near the solutions, for prediction
-  double pitch_x_ = 0, pitch_y_ = 0;  // mm, from the layout
-  std::vector<std::uint8_t> cur_ok_, prev_ok_;
+  const SliceLayout* layout_ = nullptr;  // during trace_layer
+  std::vector<Row> ring_;  // rows_in_flight + 1 slots: the rows in flight and the one above them
   TraceCounters counters_;
-  // Row extrapolation resumes at this column after a failed guess.
+  // Row extrapolation resumes this many columns after a failed guess.
   static constexpr int kPredictionBackoff = 8;
-  int retry_prediction_at_ = 0;
 };
 
 }  // namespace trivox::detail

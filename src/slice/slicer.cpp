@@ -168,11 +168,15 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
 
   MaterialGrid grid(L.width_px, L.height_px, m);
   InsideMask inside(L.width_px, L.height_px, 0);
-  std::vector<int> owner(static_cast<std::size_t>(st.pixels_total), -1);
-  std::vector<std::uint8_t> owner_gave_material(static_cast<std::size_t>(st.pixels_total), 0);
+  // With one cell, a pixel's owner is that cell wherever the pixel is inside: no per-pixel
+  // bookkeeping (at Voxel Print resolution it would be 5 bytes a pixel, 37 MB a layer).
+  const bool several_cells = cells_.size() > 1;
+  const auto owned_pixels = several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
+  std::vector<int> owner(owned_pixels, -1);
+  std::vector<std::uint8_t> owner_gave_material(owned_pixels, 0);
   std::vector<detail::Segment2> segments;
   detail::RowSpans spans;
-  detail::TracedRow row_out, kept;
+  detail::TracedRow kept;
   std::vector<float> fractions;
   detail::TraceCounters counters;
 
@@ -203,14 +207,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     if (segments.empty()) continue;
     detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
     detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
-    tracer.begin_layer(st.z_mm);
-    for (int r = 0; r < L.height_px; ++r) {
-      const auto& row_spans = spans[static_cast<std::size_t>(r)];
-      if (row_spans.empty()) continue;
-      auto& row = rows[static_cast<std::size_t>(r)];
-      tracer.trace_row(L, r, row_spans, row);
+    tracer.trace_layer(L, st.z_mm, spans, [&](int r, const detail::TracedRow& row) {
+      rows[static_cast<std::size_t>(r)] = row;
       for (int col : row.cols) in[static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col)] = 1;
-    }
+    });
     counters += tracer.counters();
   }
   std::vector<ShellSegment> shell_segments;
@@ -300,18 +300,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
         }
       }
       tracer.emplace(*tv.volume, tv.solver, params_, L.width_px);
-      tracer->begin_layer(st.z_mm);
     }
-    for (int r = 0; r < L.height_px; ++r) {
-      const detail::TracedRow* row = nullptr;
-      if (traced_first) {
-        row = &trims.rows[static_cast<std::size_t>(cd.trivariate)][static_cast<std::size_t>(r)];
-      } else {
-        const auto& row_spans = spans[static_cast<std::size_t>(r)];
-        if (row_spans.empty()) continue;
-        tracer->trace_row(L, r, row_spans, row_out);
-        row = &row_out;
-      }
+    // Gives the cell's material to the inside pixels of one traced row.
+    auto fill_row = [&](int r, const detail::TracedRow& traced) {
+      const detail::TracedRow* row = &traced;
       if (trimmed && (traced_first || cd.parametric_clauses)) {
         kept.cols.clear();
         kept.uvw.clear();
@@ -327,7 +319,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       }
       st.seconds_inverse += lap(t);
       const std::size_t n = row->cols.size();
-      if (n == 0) continue;
+      if (n == 0) return;
       fractions.assign(n * static_cast<std::size_t>(m), 0.0f);
       // Scene cells carry their material already wrapped in the scene's fraction policy
       // (CheckedMaterial), and dithering validates what reaches it.
@@ -340,17 +332,25 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
         float sum = 0.0f;
         for (int j = 0; j < m; ++j) sum += f[j];
         if (sum <= 0.0f) {
-          if (!owner_gave_material[at]) owner[at] = static_cast<int>(ci);
+          if (several_cells && !owner_gave_material[at]) owner[at] = static_cast<int>(ci);
           continue;
         }
-        owner[at] = static_cast<int>(ci);
-        owner_gave_material[at] = 1;
+        if (several_cells) {
+          owner[at] = static_cast<int>(ci);
+          owner_gave_material[at] = 1;
+        }
         auto px = grid.pixel(col, r);
         std::copy(f, f + m, px.begin());
       }
       st.seconds_material += lap(t);
+    };
+    if (traced_first) {
+      const auto& rows = trims.rows[static_cast<std::size_t>(cd.trivariate)];
+      for (int r = 0; r < L.height_px; ++r) fill_row(r, rows[static_cast<std::size_t>(r)]);
+    } else {
+      tracer->trace_layer(L, st.z_mm, spans, fill_row);
+      counters += tracer->counters();
     }
-    if (tracer) counters += tracer->counters();
   }
 
   st.seconds_inverse += lap(t);
@@ -361,8 +361,17 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     if (label != LabelImage::kVoid) ++st.voxels_per_material[static_cast<std::size_t>(label - 1)];
   for (std::uint8_t v : inside.values()) st.pixels_inside += v;
   st.pixels_per_cell.assign(cells_.size(), 0);
-  for (int o : owner)
-    if (o >= 0) ++st.pixels_per_cell[static_cast<std::size_t>(o)];
+  if (several_cells) {
+    for (int o : owner)
+      if (o >= 0) ++st.pixels_per_cell[static_cast<std::size_t>(o)];
+  } else {
+    if (!cells_.empty()) st.pixels_per_cell[0] = st.pixels_inside;
+    if (owner_out) {
+      owner.resize(static_cast<std::size_t>(st.pixels_total));
+      std::transform(inside.values().begin(), inside.values().end(), owner.begin(),
+                     [](std::uint8_t in) { return in != 0 ? 0 : -1; });
+    }
+  }
   st.candidates = counters.candidates;
   st.global_calls = counters.global_calls;
   st.newton_evals = counters.newton_evals;

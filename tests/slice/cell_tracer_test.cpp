@@ -30,12 +30,14 @@ TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
     SliceParams params;
     params.tracing = strategy;
     detail::CellTracer tracer(v, solver, params, L.width_px);
-    tracer.begin_layer(z);
-    const std::vector<std::pair<int, int>> whole_row = {{0, L.width_px - 1}};
+    const detail::RowSpans whole_rows(static_cast<std::size_t>(L.height_px), {{0, L.width_px - 1}});
+    std::vector<detail::TracedRow> rows(static_cast<std::size_t>(L.height_px));
+    tracer.trace_layer(L, z, whole_rows, [&](int row, const detail::TracedRow& traced) {
+      rows[static_cast<std::size_t>(row)] = traced;
+    });
     int inside = 0, mismatched = 0;
     for (int row = 0; row < L.height_px; ++row) {
-      detail::TracedRow traced;
-      tracer.trace_row(L, row, whole_row, traced);
+      const detail::TracedRow& traced = rows[static_cast<std::size_t>(row)];
       std::size_t next = 0;
       for (int col = 0; col < L.width_px; ++col) {
         const Vec3 x{L.x_of_col(col), L.y_of_row(row), z};
@@ -57,6 +59,76 @@ TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
     }
     EXPECT_EQ(mismatched, 0);
     EXPECT_GT(inside, 5000) << to_string(strategy);
+  }
+}
+
+// Rows traced several at a time give each pixel exactly the seeds the sequential order
+// gives it, so every answer, every counter and the order of the rows handed over are the
+// same for any number of rows in flight. The spans have gaps, skipped rows and lone pixels,
+// so rows start, stop and wait on the row above in every way the scheduler allows.
+TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
+  const Volume v = test::twisted_bent_box(8, 6, 5);
+  const GlobalSolver solver(v);
+  SliceLayout L;
+  L.pitch_x_mm = 25.4 / 600;
+  L.pitch_y_mm = 25.4 / 300;
+  L.x0_mm = v.bounds().lo.x - 2 * L.pitch_x_mm;
+  L.y_top_mm = v.bounds().hi.y + 2 * L.pitch_y_mm;
+  L.width_px = static_cast<int>((v.bounds().hi.x - L.x0_mm) / L.pitch_x_mm) + 3;
+  L.height_px = static_cast<int>((L.y_top_mm - v.bounds().lo.y) / L.pitch_y_mm) + 3;
+  const double z = 0.4 * v.bounds().lo.z + 0.6 * v.bounds().hi.z;
+  detail::RowSpans spans(static_cast<std::size_t>(L.height_px));
+  for (int row = 0; row < L.height_px; ++row) {
+    if (row % 11 == 5) continue;  // a row without candidates: the next row has no row above
+    auto& s = spans[static_cast<std::size_t>(row)];
+    const int w = L.width_px;
+    if (row % 7 == 3) {
+      // Gaps of 2 to 6 columns, one span empty, one beyond the row above's reach.
+      s = {{0, w / 3}, {w / 3 + 2 + row % 5, w / 2}, {w / 2 + 5, w / 2 + 1}, {w / 2 + 3 + detail::CellTracer::kFloodReach, w - 1}};
+    } else if (row % 13 == 0) {
+      s = {{w / 2, w / 2}};  // one pixel
+    } else {
+      s = {{0, w - 1}};
+    }
+  }
+  struct Run {
+    std::vector<int> order;
+    std::vector<detail::TracedRow> rows;
+    detail::TraceCounters counters;
+  };
+  auto run = [&](TracingStrategy strategy, int rows_in_flight) {
+    SliceParams params;
+    params.tracing = strategy;
+    detail::CellTracer tracer(v, solver, params, L.width_px, rows_in_flight);
+    Run out;
+    tracer.trace_layer(L, z, spans, [&](int row, const detail::TracedRow& traced) {
+      out.order.push_back(row);
+      out.rows.push_back(traced);
+    });
+    out.counters = tracer.counters();
+    return out;
+  };
+  for (TracingStrategy strategy : {TracingStrategy::kFull, TracingStrategy::kFlood}) {
+    const Run sequential = run(strategy, 1);
+    std::size_t pixels = 0;
+    for (const auto& r : sequential.rows) pixels += r.cols.size();
+    EXPECT_GT(pixels, 10000u);
+    for (std::size_t i = 1; i < sequential.order.size(); ++i) EXPECT_LT(sequential.order[i - 1], sequential.order[i]);
+    for (int in_flight : {2, 4, 7}) {
+      const Run r = run(strategy, in_flight);
+      EXPECT_EQ(r.order, sequential.order) << in_flight;
+      ASSERT_EQ(r.rows.size(), sequential.rows.size());
+      for (std::size_t i = 0; i < r.rows.size(); ++i) {
+        EXPECT_EQ(r.rows[i].cols, sequential.rows[i].cols) << "row " << r.order[i];
+        ASSERT_EQ(r.rows[i].uvw.size(), sequential.rows[i].uvw.size());
+        for (std::size_t k = 0; k < r.rows[i].uvw.size(); ++k)
+          for (int d = 0; d < 3; ++d) ASSERT_EQ(r.rows[i].uvw[k][d], sequential.rows[i].uvw[k][d]);
+      }
+      EXPECT_EQ(r.counters.candidates, sequential.counters.candidates);
+      EXPECT_EQ(r.counters.inside, sequential.counters.inside);
+      EXPECT_EQ(r.counters.newton_evals, sequential.counters.newton_evals);
+      EXPECT_EQ(r.counters.global_calls, sequential.counters.global_calls);
+    }
   }
 }
 
