@@ -48,8 +48,10 @@ cup_inner = [(0, 14.5), (3, 14.5), (6, 14.6), (8.7, 16.4), (10.15, 20.6), (10.5,
 KNOT_RADIUS = 3.3     # the torus: distance of its core circle from the axis
 KNOT_WOBBLE = 1.5     # the torus' tube radius (radial swing of the curve)
 KNOT_DISC = 0.9       # radius of the swept disc
-KNOT_PEAK = CUP_BOTTOM + 0.3   # loops' highest centres: 1.2 mm of tube inside the cup
-KNOT_VALLEY = BASE_TOP - 0.3   # loops' lowest centres: 1.2 mm of tube inside the base
+# The curve's highest and lowest centres; the B-spline through its samples (knot_path) peaks
+# about 0.1 mm short of them, so each loop reaches about 1.1 mm into the cup or the base.
+KNOT_PEAK = CUP_BOTTOM + 0.3
+KNOT_VALLEY = BASE_TOP - 0.3
 KNOT_END_DEPTH = 1.0  # the two ends sink this much deeper, so their end discs are buried
 KNOT_CONTROL_POINTS = 48
 KNOT_STATIONS = 129
@@ -63,12 +65,14 @@ def knot_point(s):
     ((R + a cos 3t) cos 2t, (R + a cos 3t) sin 2t, zc + hz sin 3t) for 3t from -pi/2 (a
     lowest point, in the base) to 9pi/2 (a highest point, in the cup): five sixths of the
     closed knot, turning 5/3 times around the axis through three lowest and three highest
-    loops. Near its ends the curve sinks a further KNOT_END_DEPTH into the base and the cup."""
+    loops. Over its first and last fifth (before its first highest loop, after its last
+    lowest one) it sinks smoothly a further KNOT_END_DEPTH into the base and the cup, so its
+    end discs lie inside them."""
     a = -math.pi / 2 + 5 * math.pi * s
     t = a / 3
     zc, hz = (KNOT_PEAK + KNOT_VALLEY) / 2, (KNOT_PEAK - KNOT_VALLEY) / 2
     radius = KNOT_RADIUS + KNOT_WOBBLE * math.cos(a)
-    ends = KNOT_END_DEPTH * (smoothstep((s - 0.7) / 0.3) - smoothstep((0.3 - s) / 0.3))
+    ends = KNOT_END_DEPTH * (smoothstep((s - 0.8) / 0.2) - smoothstep((0.2 - s) / 0.2))
     return [radius * math.cos(2 * t), radius * math.sin(2 * t), zc + hz * math.sin(a) + ends]
 
 def knot_path(n=KNOT_CONTROL_POINTS, order=4):
