@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # The README's first command: installs what is missing, builds the trivox program (release
-# preset), slices the stem of the bundled chalice (the paper's Figure 1, five cells built by
-# revolution and sweeps) into a Voxel Print PNG stack in out/chalice with a preview of three
-# layers, then shows `trivox info` and `trivox probe` on a bundled model. Layers 101 to 400
-# of the chalice's 901 keep the demo short; drop --layers to slice it whole.
+# preset), slices the knot of the bundled chalice (the paper's Figure 1: base and cup by
+# revolution, a knot by a sweep, five Boolean cells) into a Voxel Print PNG stack in
+# out/chalice with a preview of three layers (the knot in the base, in the stem and in the
+# cup), then shows `trivox info` and `trivox probe` on a bundled model. Layers 51 to 450 of
+# the chalice's 901 keep the demo short; drop --layers to slice it whole.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -12,9 +13,9 @@ scripts/build.sh release trivox_cli
 
 trivox=build/release/bin/trivox
 echo
-echo "\$ trivox slice examples/scenes/chalice.json -o out/chalice --layers 101:400 --preview 150,250,350"
-"$trivox" slice examples/scenes/chalice.json -o out/chalice --layers 101:400 --preview 150,250,350
-echo "previews: out/chalice/preview/layer_00150.png, layer_00250.png, layer_00350.png"
+echo "\$ trivox slice examples/scenes/chalice.json -o out/chalice --layers 51:450 --preview 80,250,400"
+"$trivox" slice examples/scenes/chalice.json -o out/chalice --layers 51:450 --preview 80,250,400
+echo "previews: out/chalice/preview/layer_00080.png, layer_00250.png, layer_00400.png"
 echo
 echo "\$ trivox info examples/models/twisted_column.itd"
 "$trivox" info examples/models/twisted_column.itd

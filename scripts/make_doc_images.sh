@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Makes the preview images of docs/EXAMPLES.md with trivox itself, from the scenes in the
-# repository: the chalice always; the teapot and the duck when ../shared (the real models
-# they are built from) is beside the repository. Writes docs/images/*.png; scratch output goes to
-# out/doc_images/. Build first (scripts/build.sh release trivox_cli).
+# repository: the chalice and every scene of examples/scenes always; the teapot, the duck and
+# the scenes of examples/shared_scenes when ../shared (the real models they are built from) is
+# beside the repository. Writes docs/images/*.png; scratch output goes to out/doc_images/.
+# Build first (scripts/build.sh release trivox_cli).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,27 +12,45 @@ scratch=out/doc_images
 mkdir -p docs/images
 rm -rf "$scratch"
 
+# One layer of a scene as docs/images/NAME_layer_LAYER.png (LAYER 1-based, as in the file names).
+one_layer() {
+  local scene=$1 layer=$2 name=$3
+  "$trivox" slice "$scene" -o "$scratch/$name" --layers "$layer:$layer" --preview "$layer" --min-layers 0 -q
+  cp "$scratch/$name/preview/layer_$(printf %05d "$layer").png" "docs/images/${name}_layer_${layer}.png"
+}
+
 # The chalice: every layer, for the contact sheet and the vertical cut through the stack;
-# one layer through the knotted stem at full resolution.
-"$trivox" slice examples/scenes/chalice.json -o "$scratch/chalice" --format preview --preview 250 -q
+# three layers at full resolution: the knot in the base, the knot's five passes through the
+# stem, the knot in the cup's bottom.
+"$trivox" slice examples/scenes/chalice.json -o "$scratch/chalice" --format preview --preview 80,250,400 -q
 cp "$scratch/chalice/preview/cut_xz.png" docs/images/chalice_cut_xz.png
 cp "$scratch/chalice/preview/contact_sheet.png" docs/images/chalice_contact_sheet.png
-cp "$scratch/chalice/preview/layer_00250.png" docs/images/chalice_layer_250.png
+for layer in 80 250 400; do
+  cp "$scratch/chalice/preview/layer_$(printf %05d "$layer").png" "docs/images/chalice_layer_${layer}.png"
+done
+
+# The other bundled scenes, one layer each (mostly the middle one).
+one_layer examples/scenes/boolean_pair.json 167 boolean_pair
+one_layer examples/scenes/box_gradient.json 167 box_gradient
+one_layer examples/scenes/column_scalar_gradient.json 600 column_scalar_gradient
+one_layer examples/scenes/cylinder_sector_curves.json 1429 cylinder_sector_curves
+one_layer examples/scenes/dithering_skin.json 34 dithering_skin
+one_layer examples/scenes/expression_layers.json 185 expression_layers
+one_layer examples/scenes/quick_start.json 101 quick_start
+one_layer examples/scenes/texture_composition.json 34 texture_composition
+one_layer examples/scenes/twisted_column_porous.json 1095 twisted_column_porous
 
 if [ -d ../shared/data ]; then
   # The teapot: two single layers (the full stack takes minutes), through the spout and
   # handle, and lower through the body's texture.
-  "$trivox" slice examples/shared_scenes/teapot.json -o "$scratch/teapot" --layers 300:300 --preview 300 \
-    --min-layers 0 -q
-  cp "$scratch/teapot/preview/layer_00300.png" docs/images/teapot_layer_300.png
-  "$trivox" slice examples/shared_scenes/teapot.json -o "$scratch/teapot" --layers 760:760 --preview 760 \
-    --min-layers 0 -q
-  cp "$scratch/teapot/preview/layer_00760.png" docs/images/teapot_layer_760.png
+  one_layer examples/shared_scenes/teapot.json 300 teapot
+  one_layer examples/shared_scenes/teapot.json 760 teapot
   # The duck: one layer through the body and the neck, showing the porous tiles.
-  "$trivox" slice examples/shared_scenes/duck.json -o "$scratch/duck" --layers 1500:1500 --preview 1500 \
-    --min-layers 0 -q
-  cp "$scratch/duck/preview/layer_01500.png" docs/images/duck_layer_1500.png
+  one_layer examples/shared_scenes/duck.json 1500 duck
+  # The boxes trimmed by the duck's and the teapot's shells, through their middles.
+  one_layer examples/shared_scenes/duck_trimmed_box.json 167 duck_trimmed_box
+  one_layer examples/shared_scenes/teapot_trimmed_box.json 201 teapot_trimmed_box
 else
-  echo "make_doc_images.sh: ../shared/data is absent: the teapot's and the duck's images are left as they are" >&2
+  echo "make_doc_images.sh: ../shared/data is absent: the images of the scenes built from it are left as they are" >&2
 fi
 ls -l docs/images

@@ -1,7 +1,7 @@
 // `trivox slice --preview LAYERS`: chosen layers as PNGs for a person to look at. Unlike the
 // Voxel Print images, each material shows in its opaque display colour and the pixels are
 // square (the coarser axis is repeated: a J750 layer of W x H pixels becomes W x 2H), so a
-// layer looks like the part.
+// layer looks like the part; the files are indexed-colour PNGs, one palette entry per label.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -18,8 +18,8 @@ namespace {
 class LayerPreviewWriter final : public LayerWriter {
  public:
   LayerPreviewWriter(OutputContext c, std::vector<std::pair<int, int>> layers) : c_(std::move(c)), layers_(std::move(layers)) {
-    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2], 255});
-    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2], 255});
+    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
+    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2]});
     std::sort(layers_.begin(), layers_.end());
     std::error_code ec;
     std::filesystem::create_directories(c_.dir / "preview", ec);
@@ -34,24 +34,24 @@ class LayerPreviewWriter final : public LayerWriter {
     const int w0 = labels.width_px(), h0 = labels.height_px();
     const double pitch = std::min(c_.pitch_x_mm, c_.pitch_y_mm);
     const int w = resampled_count(w0, c_.pitch_x_mm, pitch), h = resampled_count(h0, c_.pitch_y_mm, pitch);
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    // Label j is palette entry j (0 the background, j + 1 material j).
+    std::vector<std::uint8_t> indices(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+    const auto last = static_cast<std::uint8_t>(palette_.size() - 1);
     for (int y = 0; y < h; ++y) {
       const int sy = source_index(y, h, h0);
-      for (int x = 0; x < w; ++x) {
-        const std::uint8_t label = labels.at(source_index(x, w, w0), sy);
-        const auto& c = palette_[std::min<std::size_t>(label, palette_.size() - 1)];
-        std::copy(c.begin(), c.end(), rgba.begin() + 4 * (static_cast<std::ptrdiff_t>(y) * w + x));
-      }
+      for (int x = 0; x < w; ++x)
+        indices[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+            std::min(labels.at(source_index(x, w, w0), sy), last);
     }
     const std::string file = fmt::format("preview/layer_{:05d}.png", it->second);
-    write_png_rgba(c_.dir / file, w, h, rgba, c_.png);
+    write_png_indexed(c_.dir / file, w, h, indices, palette_, c_.png);
     return {file};
   }
 
  private:
   OutputContext c_;
   std::vector<std::pair<int, int>> layers_;  // (job index, model layer number), by index
-  std::vector<std::array<std::uint8_t, 4>> palette_;
+  std::vector<std::array<std::uint8_t, 3>> palette_;  // index = label
 };
 
 }  // namespace

@@ -90,6 +90,8 @@ struct PngWriteJob {
   int color_type;
   int zlib_level;
   int filter_mask;
+  const png_color* palette;  // colour type 3: PLTE entries (owned by the caller)
+  int palette_size;
   PngMessage error;
 };
 
@@ -115,6 +117,7 @@ bool write_png_core(PngWriteJob* job) noexcept {
   png_set_filter(png, PNG_FILTER_TYPE_BASE, job->filter_mask);
   png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+  if (job->palette_size > 0) png_set_PLTE(png, info, job->palette, job->palette_size);
   png_write_info(png, info);
   for (png_uint_32 y = 0; y < job->height; ++y) {
     png_write_row(png, job->pixels + static_cast<std::size_t>(y) * job->row_stride);
@@ -288,6 +291,40 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
   std::free(buffer);
   if (!ok || !closed) throw IoError(fmt::format("{}: cannot encode PNG: {}", what.string(), job.error.text));
   return bytes;
+}
+
+void write_png_indexed(const std::filesystem::path& path, int width_px, int height_px,
+                       std::span<const std::uint8_t> indices,
+                       std::span<const std::array<std::uint8_t, 3>> palette,
+                       const PngWriteParams& params) {
+  params.validate();
+  check_size(path, width_px, height_px, 1, indices.size());
+  if (palette.empty() || palette.size() > 256)
+    throw Error(fmt::format("{}: an indexed PNG takes 1 to 256 palette colours, not {}", path.string(),
+                            palette.size()));
+  const int bits = palette.size() <= 2 ? 1 : palette.size() <= 4 ? 2 : palette.size() <= 16 ? 4 : 8;
+  // PNG packs pixels narrower than a byte leftmost first, in the most significant bits.
+  const std::size_t width = static_cast<std::size_t>(width_px);
+  const std::size_t per_byte = static_cast<std::size_t>(8 / bits);
+  const std::size_t stride = (width + per_byte - 1) / per_byte;
+  std::vector<std::uint8_t> packed(stride * static_cast<std::size_t>(height_px), 0);
+  for (std::size_t y = 0; y < static_cast<std::size_t>(height_px); ++y) {
+    const std::uint8_t* in = indices.data() + y * width;
+    std::uint8_t* out = packed.data() + y * stride;
+    for (std::size_t x = 0; x < width; ++x) {
+      if (in[x] >= palette.size())
+        throw Error(fmt::format("{}: pixel ({}, {}) has palette index {}, beyond the palette's {} colours",
+                                path.string(), x, y, in[x], palette.size()));
+      const unsigned shift = static_cast<unsigned>(8 - bits) - static_cast<unsigned>((x % per_byte) * bits);
+      out[x / per_byte] = static_cast<std::uint8_t>(out[x / per_byte] | (in[x] << shift));
+    }
+  }
+  std::vector<png_color> plte;
+  for (const auto& c : palette) plte.push_back({c[0], c[1], c[2]});
+  PngWriteJob job = make_job(packed.data(), stride, width_px, height_px, bits, PNG_COLOR_TYPE_PALETTE);
+  job.palette = plte.data();
+  job.palette_size = static_cast<int>(plte.size());
+  write_png(path, params, job);
 }
 
 void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,

@@ -5,7 +5,8 @@
 // from several threads) the writer keeps only a thumbnail of each layer on the sheet (at
 // most 64), one row and one column of every layer (for the x-z and y-z cuts) and the middle
 // layer (the x-y cut). Everything is resampled by nearest neighbour from label images, so
-// the files depend only on the labels: the same for any thread count or order.
+// the files depend only on the labels: the same for any thread count or order. The images
+// are indexed-colour PNGs: one palette entry per label, and the grid's grey.
 #include <algorithm>
 #include <cmath>
 #include <mutex>
@@ -29,8 +30,10 @@ constexpr std::uint8_t kGridGray = 128;   // lines between thumbnails
 class PreviewWriter final : public LayerWriter {
  public:
   explicit PreviewWriter(OutputContext c) : c_(std::move(c)) {
-    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2], 255});
-    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2], 255});
+    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
+    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2]});
+    grid_index_ = static_cast<std::uint8_t>(palette_.size());
+    palette_.push_back({kGridGray, kGridGray, kGridGray});
     const int n = std::max(1, c_.model_layers);
     sheet_count_ = std::min(kMaxSheetLayers, n);
     for (int i = 0; i < sheet_count_; ++i) sheet_layers_.push_back(source_index(i, sheet_count_, n));
@@ -94,40 +97,38 @@ class PreviewWriter final : public LayerWriter {
     return t;
   }
 
-  void put(std::vector<std::uint8_t>& rgba, std::size_t pixel, std::uint8_t label) const {
-    const auto& c = palette_[std::min<std::size_t>(label, palette_.size() - 1)];
-    std::copy(c.begin(), c.end(), rgba.begin() + static_cast<std::ptrdiff_t>(4 * pixel));
-  }
+  // The palette entry of a label: the label itself (0 the background, j + 1 material j).
+  std::uint8_t colour_of(std::uint8_t label) const { return std::min<std::uint8_t>(label, grid_index_ - 1); }
 
   std::string write_sheet() const {
     const int tw = thumbs_.front().width_px(), th = thumbs_.front().height_px();
     const int cols = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(sheet_count_))));
     const int rows = (sheet_count_ + cols - 1) / cols;
     const int W = cols * (tw + 1) + 1, H = rows * (th + 1) + 1;
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(W) * static_cast<std::size_t>(H) * 4, kGridGray);
-    for (std::size_t p = 0; p < rgba.size(); p += 4) rgba[p + 3] = 255;
+    std::vector<std::uint8_t> indices(static_cast<std::size_t>(W) * static_cast<std::size_t>(H), grid_index_);
     for (int i = 0; i < sheet_count_; ++i) {
       const LabelImage& t = thumbs_[static_cast<std::size_t>(i)];
       const int x0 = 1 + (i % cols) * (tw + 1), y0 = 1 + (i / cols) * (th + 1);
       for (int y = 0; y < th; ++y)
         for (int x = 0; x < tw; ++x)
-          put(rgba, static_cast<std::size_t>(y0 + y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x0 + x), t.at(x, y));
+          indices[static_cast<std::size_t>(y0 + y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x0 + x)] =
+              colour_of(t.at(x, y));
     }
     const std::string file = "preview/contact_sheet.png";
-    write_png_rgba(c_.dir / file, W, H, rgba, c_.png);
+    write_png_indexed(c_.dir / file, W, H, indices, palette_, c_.png);
     return file;
   }
 
   std::string write_cut_xy() const {
     const int w = resampled_count(width_, c_.pitch_x_mm, iso_pitch());
     const int h = resampled_count(height_, c_.pitch_y_mm, iso_pitch());
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    std::vector<std::uint8_t> indices(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
-        put(rgba, static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x),
-            middle_.at(source_index(x, w, width_), source_index(y, h, height_)));
+        indices[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+            colour_of(middle_.at(source_index(x, w, width_), source_index(y, h, height_)));
     const std::string file = "preview/cut_xy.png";
-    write_png_rgba(c_.dir / file, w, h, rgba, c_.png);
+    write_png_indexed(c_.dir / file, w, h, indices, palette_, c_.png);
     return file;
   }
 
@@ -136,19 +137,20 @@ class PreviewWriter final : public LayerWriter {
     const int n = static_cast<int>(lines.front().size()), layers = static_cast<int>(lines.size());
     const int w = resampled_count(n, pitch, iso_pitch());
     const int h = resampled_count(layers, c_.layer_mm, iso_pitch());
-    std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+    std::vector<std::uint8_t> indices(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
     for (int y = 0; y < h; ++y) {
       const auto& line = lines[static_cast<std::size_t>(layers - 1 - source_index(y, h, layers))];
       for (int x = 0; x < w; ++x)
-        put(rgba, static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x),
-            line[static_cast<std::size_t>(source_index(x, w, n))]);
+        indices[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+            colour_of(line[static_cast<std::size_t>(source_index(x, w, n))]);
     }
-    write_png_rgba(c_.dir / file, w, h, rgba, c_.png);
+    write_png_indexed(c_.dir / file, w, h, indices, palette_, c_.png);
     return file;
   }
 
   OutputContext c_;
-  std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label, opaque
+  std::vector<std::array<std::uint8_t, 3>> palette_;  // index = label, then the grid's grey
+  std::uint8_t grid_index_ = 0;
   int sheet_count_ = 0;
   std::vector<int> sheet_layers_;  // model layers on the sheet, ascending
   int middle_layer_ = 0;

@@ -264,7 +264,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       tv.mesh.cut(st.z_mm, segments);
       if (segments.empty()) continue;
       detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
-      if (cd.model_space_clauses) {
+      if (cd.model_space_clauses && params_.model_space_narrowing) {
         // Only pixels that pass the volume and shell clauses are worth inverting: those
         // clauses are decided without this cell's inverse.
         for (int r = 0; r < L.height_px; ++r) {
@@ -301,15 +301,17 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       }
       tracer.emplace(*tv.volume, tv.solver, params_, L.width_px);
     }
+    // The model-space clauses are tested on the inverted pixels where they did not choose them.
+    const bool test_model_space = traced_first || (cd.model_space_clauses && !params_.model_space_narrowing);
     // Gives the cell's material to the inside pixels of one traced row.
     auto fill_row = [&](int r, const detail::TracedRow& traced) {
       const detail::TracedRow* row = &traced;
-      if (trimmed && (traced_first || cd.parametric_clauses)) {
+      if (trimmed && (test_model_space || cd.parametric_clauses)) {
         kept.cols.clear();
         kept.uvw.clear();
         kept.xyz.clear();
         for (std::size_t k = 0; k < row->cols.size(); ++k) {
-          if (traced_first && !model_space_ok(cd, row->cols[k], r)) continue;
+          if (test_model_space && !model_space_ok(cd, row->cols[k], r)) continue;
           if (cd.parametric_clauses && !parametric_ok(cd, row->uvw[k])) continue;
           kept.cols.push_back(row->cols[k]);
           kept.uvw.push_back(row->uvw[k]);

@@ -192,6 +192,52 @@ TEST_F(PngTest, Gray1RoundTrip) {
   }
 }
 
+TEST_F(PngTest, IndexedRoundTripsAtTheSmallestBitDepth) {
+  // Palettes of 2, 3, 5, 16, 17 and 256 colours take 1, 2, 4, 4, 8 and 8 bits per pixel;
+  // widths that are not multiples of the pixels per byte leave a partial last byte in every row.
+  const std::array<std::pair<std::size_t, int>, 6> cases = {{{2, 1}, {3, 2}, {5, 4}, {16, 4}, {17, 8}, {256, 8}}};
+  std::uint32_t seed = 20;
+  for (const auto& [colours, bits] : cases) {
+    std::vector<std::array<std::uint8_t, 3>> palette;
+    const std::vector<std::uint8_t> rgb = random_bytes(3 * colours, seed++);
+    for (std::size_t c = 0; c < colours; ++c) palette.push_back({rgb[3 * c], rgb[3 * c + 1], rgb[3 * c + 2]});
+    std::vector<std::uint8_t> indices = random_bytes(13 * 6, seed++);
+    for (std::uint8_t& i : indices) i = static_cast<std::uint8_t>(i % colours);
+    const fs::path path = dir_ / "preview.png";
+    write_png_indexed(path, 13, 6, indices, palette);
+    const Ihdr ihdr = read_ihdr(path);
+    EXPECT_EQ(ihdr.color_type, 3) << colours;
+    EXPECT_EQ(ihdr.bit_depth, bits) << colours;
+    const RgbaImage back = read_png_rgba(path);
+    ASSERT_EQ(back.width_px, 13);
+    ASSERT_EQ(back.height_px, 6);
+    for (std::size_t i = 0; i < indices.size(); ++i) {
+      const auto& c = palette[indices[i]];
+      const std::array<std::uint8_t, 4> expected{c[0], c[1], c[2], 255};
+      ASSERT_TRUE(std::equal(expected.begin(), expected.end(), back.rgba.begin() + 4 * static_cast<std::ptrdiff_t>(i)))
+          << colours << " colours, pixel " << i;
+    }
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"preview.png"});
+}
+
+TEST_F(PngTest, IndexedRefusesABadPaletteOrIndex) {
+  const std::vector<std::array<std::uint8_t, 3>> two = {{0, 0, 0}, {255, 255, 255}};
+  const std::vector<std::array<std::uint8_t, 3>> too_many(257, {1, 2, 3});
+  const std::vector<std::uint8_t> indices = {0, 1, 1, 0, 2, 0};
+  EXPECT_THROW(write_png_indexed(dir_ / "a.png", 3, 2, indices, std::span<const std::array<std::uint8_t, 3>>{}), Error);
+  const std::vector<std::uint8_t> zeros(6, 0);
+  EXPECT_THROW(write_png_indexed(dir_ / "a.png", 3, 2, zeros, too_many), Error);
+  EXPECT_THROW(write_png_indexed(dir_ / "a.png", 2, 2, indices, two), Error);  // size mismatch
+  try {
+    write_png_indexed(dir_ / "a.png", 3, 2, indices, two);
+    ADD_FAILURE() << "index 2 of a two-colour palette was written";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("pixel (1, 1) has palette index 2"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(entries().empty());
+}
+
 TEST_F(PngTest, EveryLevelAndFilterRoundTrips) {
   const RgbaImage image{41, 9, random_bytes(41 * 9 * 4, 5)};
   for (int level = 0; level <= 9; ++level) {

@@ -1,5 +1,6 @@
 // Trimmed cells in the slicer: Boolean cells partition their union, shell and parametric
-// trims agree with independent inside tests, and every inside pixel has one owner.
+// trims agree with independent inside tests and narrow the inverted pixels without changing
+// one, and every inside pixel has one owner.
 #include <algorithm>
 #include <cmath>
 #include <iostream>
@@ -216,6 +217,56 @@ TEST(TrimmedCells, ParametricOutlinesNarrowTheCandidatesAndChangeNoPixel) {
             << inside_pixels << " inside pixels\n";
   EXPECT_GT(inside_pixels, 1000);
   EXPECT_LT(candidates, reference_candidates);
+  EXPECT_LT(static_cast<double>(candidates), 0.8 * static_cast<double>(reference_candidates));
+}
+
+// Shell trims narrow the inverted pixels to those inside the shell's cut by the layer (an
+// "outside" shell to those outside it) without changing a pixel: owners and labels equal
+// those of a run that inverts every pixel of the cell's outline and tests each one, and that
+// run inverts exactly the pixels of the untrimmed cell.
+TEST(TrimmedCells, ShellTrimsNarrowTheCandidatesAndChangeNoPixel) {
+  // A rational quarter annulus with a gradient, kept inside a skewed hexahedron that cuts
+  // away its ends and its top, without a box-shaped hole.
+  const Hexahedron keep = {Vec3{0.4, -0.3, -0.2}, Vec3{2.6, -0.2, -0.3}, Vec3{0.2, 2.4, -0.25}, Vec3{2.4, 2.2, -0.1},
+                           Vec3{0.5, -0.2, 0.8},  Vec3{2.7, -0.3, 0.7},  Vec3{0.3, 2.3, 0.75},  Vec3{2.5, 2.5, 0.85}};
+  TrimClause inside;
+  inside.kind = TrimKind::kShell;
+  inside.side = TrimSide::kInside;
+  inside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(keep));
+  TrimClause outside = inside;
+  outside.side = TrimSide::kOutside;
+  outside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(test::axis_box({1.2, 0.8, 0.2}, {1.8, 1.4, 0.6})));
+  const Scene untrimmed = test::scene_with({test::gradient_cell(test::annulus_sector(1, 3, 1))}, 2);
+  Scene s = untrimmed;
+  s.cells[0].trim.clauses = {inside, outside};
+  SliceParams reference_params;
+  reference_params.model_space_narrowing = false;
+  const Slicer narrowed(s, {}), reference(s, reference_params), whole(untrimmed, {});
+  const SliceLayout& L = narrowed.layout();
+  ASSERT_EQ(L.num_layers, reference.layout().num_layers);
+  ASSERT_EQ(L.num_layers, whole.layout().num_layers);
+  std::int64_t candidates = 0, reference_candidates = 0, whole_candidates = 0, inside_pixels = 0, whole_inside = 0;
+  for (int layer = 0; layer < L.num_layers; layer += 3) {
+    std::vector<int> owner, reference_owner;
+    const LayerResult r = narrowed.slice_layer(layer, &owner);
+    const LayerResult ref = reference.slice_layer(layer, &reference_owner);
+    const LayerResult w = whole.slice_layer(layer);
+    EXPECT_EQ(owner, reference_owner) << "layer " << layer;
+    EXPECT_TRUE(std::ranges::equal(r.labels.values(), ref.labels.values())) << "layer " << layer;
+    EXPECT_EQ(r.stats.pixels_inside, ref.stats.pixels_inside) << "layer " << layer;
+    EXPECT_EQ(ref.stats.candidates, w.stats.candidates) << "layer " << layer;
+    EXPECT_LE(r.stats.candidates, ref.stats.candidates) << "layer " << layer;
+    candidates += r.stats.candidates;
+    reference_candidates += ref.stats.candidates;
+    whole_candidates += w.stats.candidates;
+    inside_pixels += r.stats.pixels_inside;
+    whole_inside += w.stats.pixels_inside;
+  }
+  std::cout << "shell trims: " << candidates << " candidates instead of " << reference_candidates << " for "
+            << inside_pixels << " inside pixels (untrimmed cell: " << whole_candidates << " candidates, " << whole_inside
+            << " inside)\n";
+  EXPECT_GT(inside_pixels, 1000);
+  EXPECT_LT(inside_pixels, whole_inside);
   EXPECT_LT(static_cast<double>(candidates), 0.8 * static_cast<double>(reference_candidates));
 }
 

@@ -1,5 +1,5 @@
-// PNG files for slices: 32-bit RGBA (the Voxel Print layer format), 8-bit grayscale and
-// 1-bit grayscale writers, and a reader that turns any PNG into 8-bit RGBA (for tests and
+// PNG files for slices: 32-bit RGBA (the Voxel Print layer format), indexed-colour (the
+// previews), 8-bit grayscale and 1-bit grayscale writers, and a reader that turns any PNG into 8-bit RGBA (for tests and
 // for verifying what was written).
 //
 // Pixels are row-major, top row first, no padding between rows; x runs along the image
@@ -10,6 +10,7 @@
 // build (no time stamps or text chunks).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -55,6 +56,17 @@ void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
 // The bytes write_png_rgba would write, in memory (for outputs that package PNGs).
 std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,
                             const PngWriteParams& params = {});
+
+// Writes colour type 3 (indexed colour): one byte per pixel in `indices`, each an index into
+// `palette` (1 to 256 opaque RGB colours, written as PLTE). The pixels are packed at the
+// smallest bit depth that holds every palette index (1, 2, 4 or 8 bits), so an image of a
+// few colours, such as the preview of a dithered layer, takes a fraction of its RGBA size.
+// Throws Error when a size is not positive, the span's length does not match, the palette is
+// empty or longer than 256, or an index is not below the palette's size; IoError as above.
+void write_png_indexed(const std::filesystem::path& path, int width_px, int height_px,
+                       std::span<const std::uint8_t> indices,
+                       std::span<const std::array<std::uint8_t, 3>> palette,
+                       const PngWriteParams& params = {});
 
 // Writes colour type 0 (grayscale), bit depth 8: one byte per pixel.
 void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,

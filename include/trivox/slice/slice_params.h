@@ -47,6 +47,12 @@ struct SliceParams {
   // and then tested: the same output, more inversions (the reference the narrowing is
   // checked against).
   bool parametric_outlines = true;
+  // Cells with "volume" or "shell" trim clauses (whose own volume is not traced for the whole
+  // layer) invert only the pixels that pass those clauses, decided from the trimming volume's
+  // inverse and the shell's cut by the layer. Off, every pixel within the cell's own outline
+  // is inverted and then tested: the same output, more inversions (the reference the
+  // narrowing is checked against).
+  bool model_space_narrowing = true;
   // The dithering; absent: the scene's "dithering" settings, else DitherParams' defaults.
   std::optional<DitherParams> dither;
 
