@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <png.h>
+#include <zlib.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -33,7 +34,36 @@ std::string_view to_string(PngFilter filter) noexcept {
   return "unknown";
 }
 
+std::string_view to_string(PngStrategy strategy) noexcept {
+  switch (strategy) {
+    case PngStrategy::kDefault:
+      return "default";
+    case PngStrategy::kFiltered:
+      return "filtered";
+    case PngStrategy::kRle:
+      return "rle";
+    case PngStrategy::kHuffmanOnly:
+      return "huffman-only";
+  }
+  return "unknown";
+}
+
 namespace {
+
+// zlib's constant for a strategy; -1 for a value outside the enumeration.
+int zlib_strategy(PngStrategy strategy) noexcept {
+  switch (strategy) {
+    case PngStrategy::kDefault:
+      return Z_DEFAULT_STRATEGY;
+    case PngStrategy::kFiltered:
+      return Z_FILTERED;
+    case PngStrategy::kRle:
+      return Z_RLE;
+    case PngStrategy::kHuffmanOnly:
+      return Z_HUFFMAN_ONLY;
+  }
+  return -1;
+}
 
 // libpng's bit mask for a filter choice; 0 for a value outside the enumeration.
 int png_filter_mask(PngFilter filter) noexcept {
@@ -89,6 +119,7 @@ struct PngWriteJob {
   int bit_depth;
   int color_type;
   int zlib_level;
+  int zlib_strategy;
   int filter_mask;
   const png_color* palette;  // colour type 3: PLTE entries (owned by the caller)
   int palette_size;
@@ -114,6 +145,7 @@ bool write_png_core(PngWriteJob* job) noexcept {
   }
   png_init_io(png, job->file);
   png_set_compression_level(png, job->zlib_level);
+  png_set_compression_strategy(png, job->zlib_strategy);
   png_set_filter(png, PNG_FILTER_TYPE_BASE, job->filter_mask);
   png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
@@ -218,6 +250,7 @@ void write_png(const std::filesystem::path& path, const PngWriteParams& params, 
   AtomicFile temp(path);
   job.file = temp.file();
   job.zlib_level = params.zlib_level;
+  job.zlib_strategy = zlib_strategy(params.strategy);
   job.filter_mask = png_filter_mask(params.filter);
   job.error.text[0] = '\0';
   errno = 0;
@@ -252,6 +285,10 @@ void PngWriteParams::validate() const {
     throw Error(
         fmt::format("png params: filter = {} is not a known PNG filter", static_cast<int>(filter)));
   }
+  if (zlib_strategy(strategy) < 0) {
+    throw Error(fmt::format("png params: strategy = {} is not a known zlib strategy",
+                            static_cast<int>(strategy)));
+  }
 }
 
 void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px,
@@ -282,6 +319,7 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
                              PNG_COLOR_TYPE_RGBA);
   job.file = stream;
   job.zlib_level = params.zlib_level;
+  job.zlib_strategy = zlib_strategy(params.strategy);
   job.filter_mask = png_filter_mask(params.filter);
   job.error.text[0] = '\0';
   const bool ok = write_png_core(&job);

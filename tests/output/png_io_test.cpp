@@ -250,6 +250,38 @@ TEST_F(PngTest, EveryLevelAndFilterRoundTrips) {
   }
 }
 
+// Each zlib strategy on a dithered-looking image (few colours in runs) and on noise.
+TEST_F(PngTest, EveryStrategyRoundTrips) {
+  std::vector<std::uint8_t> runs(53 * 17 * 4);
+  for (std::size_t i = 0; i < runs.size(); ++i) runs[i] = static_cast<std::uint8_t>(((i / 4) % 7 < 3) ? 255 : 40 + i % 4);
+  for (const RgbaImage& image : {RgbaImage{53, 17, runs}, RgbaImage{53, 17, random_bytes(53 * 17 * 4, 11)}}) {
+    for (PngStrategy strategy : {PngStrategy::kDefault, PngStrategy::kFiltered, PngStrategy::kRle,
+                                 PngStrategy::kHuffmanOnly}) {
+      for (PngFilter filter : {PngFilter::kNone, PngFilter::kSub, PngFilter::kPaeth}) {
+        const fs::path path = dir_ / "a.png";
+        write_png_rgba(path, image, PngWriteParams{1, filter, strategy});
+        ASSERT_EQ(read_png_rgba(path), image) << to_string(strategy) << ", " << to_string(filter);
+      }
+    }
+  }
+}
+
+TEST_F(PngTest, ParamsOutsideTheirRangesNameTheField) {
+  auto message = [](const PngWriteParams& params) {
+    try {
+      params.validate();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(message(PngWriteParams{10}).find("zlib_level = 10"), std::string::npos);
+  EXPECT_NE(message(PngWriteParams{1, static_cast<PngFilter>(17)}).find("filter = 17"), std::string::npos);
+  EXPECT_NE(message(PngWriteParams{1, PngFilter::kNone, static_cast<PngStrategy>(9)}).find("strategy = 9"),
+            std::string::npos);
+  EXPECT_EQ(message(PngWriteParams{}), "");
+}
+
 TEST_F(PngTest, WritingTwiceGivesIdenticalBytes) {
   const RgbaImage image{64, 32, random_bytes(64 * 32 * 4, 6)};
   for (const PngWriteParams& params : {PngWriteParams{}, PngWriteParams{6, PngFilter::kAdaptive}}) {

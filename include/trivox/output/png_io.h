@@ -24,6 +24,11 @@ namespace trivox {
 enum class PngFilter { kNone, kSub, kUp, kAverage, kPaeth, kAdaptive };
 std::string_view to_string(PngFilter filter) noexcept;
 
+// zlib's match strategies (zlib.h): kRle looks for runs only (matches at distance 1), which
+// after the `sub` filter are the runs of equal pixels a dithered layer consists of.
+enum class PngStrategy { kDefault, kFiltered, kRle, kHuffmanOnly };
+std::string_view to_string(PngStrategy strategy) noexcept;
+
 struct PngWriteParams {
   // The defaults favour speed. On a dithered 3040 x 1512 RGBA slice (3 materials, fsync
   // included, busy 2-core machine) level 1 wrote 1.51 MB in 140-165 ms, level 6 0.78 MB in
@@ -31,8 +36,10 @@ struct PngWriteParams {
   // images: with adaptive filtering level 1 grew to 2.14 MB and took 460 ms.
   int zlib_level = 1;  // 0 (store) to 9 (smallest)
   PngFilter filter = PngFilter::kNone;
+  PngStrategy strategy = PngStrategy::kDefault;
 
-  // Throws Error naming the field when zlib_level is outside [0, 9] or filter is unknown.
+  // Throws Error naming the field when zlib_level is outside [0, 9], or filter or strategy
+  // is unknown.
   void validate() const;
 };
 
