@@ -12,6 +12,7 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
   candidates += o.candidates;
   inside += o.inside;
   global_calls += o.global_calls;
+  global_unseeded += o.global_unseeded;
   newton_evals += o.newton_evals;
   folded += o.folded;
   unresolved += o.unresolved;
@@ -203,6 +204,7 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
     }
   }
   ++counters_.global_calls;
+  if (n == 0) ++counters_.global_unseeded;
   const GlobalResult g = solver_.solve(x, params_.global, outward);
   switch (g.status) {
     case GlobalStatus::kNone: return;

@@ -25,6 +25,7 @@ struct TraceCounters {
   std::int64_t candidates = 0;     // pixels examined
   std::int64_t inside = 0;         // pixels whose inverse lies in the domain
   std::int64_t global_calls = 0;   // global solves
+  std::int64_t global_unseeded = 0;  // of which for a pixel with no solved neighbour to start from
   std::int64_t newton_evals = 0;   // evaluations of V and J by Newton
   std::int64_t folded = 0;         // pixels with several regular preimages (fold)
   std::int64_t unresolved = 0;     // global solver ran out of budget

@@ -100,6 +100,7 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"background_rgba", rgba_text(params.background_rgba)},
       {"png_zlib_level", fmt::format("{}", params.png.zlib_level)},
       {"png_filter", std::string(to_string(params.png.filter))},
+      {"png_strategy", std::string(to_string(params.png.strategy))},
       {"tracing", std::string(to_string(sp.tracing))},
       {"newton", fmt::format("tol={} iter={} slack={}", num(sp.newton.residual_tolerance_model), sp.newton.max_iterations,
                              num(sp.newton.outside_slack_relative))},
@@ -344,13 +345,14 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
     const double share = s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
     layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"seconds_inverse", s.seconds_inverse}, {"seconds_material", s.seconds_material}, {"seconds_dither", s.seconds_dither}, {"pixels_total", s.pixels_total},
                       {"pixels_inside", s.pixels_inside}, {"candidates", s.candidates}, {"global_calls", s.global_calls},
-                      {"global_share_percent", share}, {"newton_evals", s.newton_evals},
+                      {"global_share_percent", share}, {"global_unseeded", s.global_unseeded}, {"newton_evals", s.newton_evals},
                       {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},
                       {"voxels_per_material", s.voxels_per_material}, {"pixels_per_cell", s.pixels_per_cell}});
     total.pixels_total += s.pixels_total;
     total.pixels_inside += s.pixels_inside;
     total.candidates += s.candidates;
     total.global_calls += s.global_calls;
+    total.global_unseeded += s.global_unseeded;
     total.newton_evals += s.newton_evals;
     total.folded_pixels += s.folded_pixels;
     total.unresolved_pixels += s.unresolved_pixels;
@@ -386,7 +388,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
         {"pixels_total", total.pixels_total}, {"pixels_inside", total.pixels_inside},
         {"candidates", total.candidates}, {"global_calls", total.global_calls},
         {"global_share_percent", total.pixels_inside > 0 ? 100.0 * static_cast<double>(total.global_calls) / static_cast<double>(total.pixels_inside) : 0.0},
-        {"newton_evals", total.newton_evals}, {"folded_pixels", total.folded_pixels},
+        {"global_unseeded", total.global_unseeded}, {"newton_evals", total.newton_evals},
+        {"folded_pixels", total.folded_pixels},
         {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material},
         {"pixels_per_cell", total.pixels_per_cell}}},
       {"layers", layers}};

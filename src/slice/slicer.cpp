@@ -376,6 +376,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   }
   st.candidates = counters.candidates;
   st.global_calls = counters.global_calls;
+  st.global_unseeded = counters.global_unseeded;
   st.newton_evals = counters.newton_evals;
   st.folded_pixels = counters.folded;
   st.unresolved_pixels = counters.unresolved;

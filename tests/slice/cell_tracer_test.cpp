@@ -114,6 +114,9 @@ TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
     for (const auto& r : sequential.rows) pixels += r.cols.size();
     EXPECT_GT(pixels, 10000u);
     for (std::size_t i = 1; i < sequential.order.size(); ++i) EXPECT_LT(sequential.order[i - 1], sequential.order[i]);
+    // The first pixel of the layer has no solved neighbour to start from.
+    EXPECT_GE(sequential.counters.global_unseeded, 1);
+    EXPECT_LE(sequential.counters.global_unseeded, sequential.counters.global_calls);
     for (int in_flight : {2, 4, 7}) {
       const Run r = run(strategy, in_flight);
       EXPECT_EQ(r.order, sequential.order) << in_flight;
@@ -128,6 +131,7 @@ TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
       EXPECT_EQ(r.counters.inside, sequential.counters.inside);
       EXPECT_EQ(r.counters.newton_evals, sequential.counters.newton_evals);
       EXPECT_EQ(r.counters.global_calls, sequential.counters.global_calls);
+      EXPECT_EQ(r.counters.global_unseeded, sequential.counters.global_unseeded);
     }
   }
 }

@@ -24,6 +24,7 @@ struct LayerStats {
   std::int64_t pixels_inside = 0;      // pixels inside some cell
   std::int64_t candidates = 0;         // pixels inverted (inside the widened outlines)
   std::int64_t global_calls = 0;       // global solves
+  std::int64_t global_unseeded = 0;    // of which for a pixel no solved neighbour could seed
   std::int64_t newton_evals = 0;       // evaluations of V and J in Newton iterations
   std::int64_t folded_pixels = 0;      // pixels where a cell folds (several preimages)
   std::int64_t unresolved_pixels = 0;  // pixels where the global solver ran out of budget
