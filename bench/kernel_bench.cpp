@@ -66,6 +66,39 @@ void BM_EvaluateJacobian(benchmark::State& state) {
 }
 BENCHMARK(BM_EvaluateJacobian)->ArgName("de_boor")->Arg(0)->Arg(1);
 
+// Values along rows, as the slicer's tracer evaluates its row predictions: each row a
+// dependent chain (the next parameter waits on the row's last value). Argument 0: one row,
+// the old tracer's order; 1: four rows, each point with Volume::evaluate; 2: four rows, their
+// points handed to Volume::evaluate_many together, as the tracer does now. Same values.
+void BM_EvaluateRowChains(benchmark::State& state) {
+  const trivox::Volume& v = column();
+  // Each row a straight walk through the domain in 256 steps, between random ends.
+  const auto ends = random_params(8, 5);
+  std::vector<Vec3> params(4 * 256);
+  for (std::size_t r = 0; r < 4; ++r)
+    for (std::size_t i = 0; i < 256; ++i)
+      params[r * 256 + i] = ends[2 * r] + (static_cast<double>(i) / 255.0) * (ends[2 * r + 1] - ends[2 * r]);
+  const int mode = static_cast<int>(state.range(0));
+  const std::size_t rows = mode == 0 ? 1 : 4;
+  std::int64_t points = 0;
+  for (auto _ : state) {
+    Vec3 last[4] = {};
+    for (std::size_t i = 0; i < 256; ++i) {
+      Vec3 at[4];
+      for (std::size_t r = 0; r < rows; ++r) at[r] = params[r * 256 + i] + 1e-30 * last[r];
+      if (mode == 2) {
+        v.evaluate_many(at, last);
+      } else {
+        for (std::size_t r = 0; r < rows; ++r) last[r] = v.evaluate(at[r]);
+      }
+    }
+    benchmark::DoNotOptimize(last);
+    points += static_cast<std::int64_t>(rows * 256);
+  }
+  state.SetItemsProcessed(points);
+}
+BENCHMARK(BM_EvaluateRowChains)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2);
+
 // A row of pixels 0.04 mm apart along x, each inverted with the previous pixel's solution
 // as the hint, as the slicer's tracing does.
 void BM_WarmInversion(benchmark::State& state) {
