@@ -61,6 +61,10 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  cmd.add_option("--outline-tolerance", o.outline_tolerance_mm,
+                 "Largest distance between a cell's boundary and its triangulated outline, mm: the band of pixels "
+                 "decided by the exact inverse is twice as wide (default: an eighth of the finest pitch)")
+      ->check(CLI::PositiveNumber);
   cmd.add_option("--dither", o.dither,
                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
   cmd.add_option("--skin", o.skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
@@ -93,6 +97,7 @@ SliceParams slice_params_of(const JobOptions& o, const Scene& scene) {
                                  o.tracing));
   params.tracing = *strategy;
   params.newton.residual_tolerance_model = o.residual_tolerance_mm;
+  params.outline_tolerance_mm = o.outline_tolerance_mm;
   // Dithering: the scene's settings, with the options given here on top.
   DitherParams dither = scene.dithering.value_or(DitherParams{});
   if (!o.dither.empty() && !set_dither_method(o.dither, dither))

@@ -21,8 +21,6 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
 
 namespace {
 
-constexpr ParamBox kNoPiece{{1, 1, 1}, {0, 0, 0}};  // empty: contains nothing
-
 // Row by row: a plain assignment of the 72-byte matrix can compile, in the tracer, to a
 // string move whose start-up cost is several times that of the nine loads and stores.
 inline void copy_jacobian(const Mat3& from, Mat3& to) noexcept {
@@ -63,7 +61,6 @@ void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::
   else r.col = spans[r.span].first;
   std::fill(r.ok.begin(), r.ok.end(), 0);
   r.retry_prediction_at = 0;
-  r.piece = kNoPiece;
   r.out.cols.clear();
   r.out.uvw.clear();
   r.out.xyz.clear();
@@ -93,8 +90,8 @@ void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed) {
   r.out.xyz.push_back(x);
 }
 
-// Along a row the inverse map is smooth: the cubic through the last four solutions predicts
-// the next one to O(pitch^4), usually well within the residual tolerance, so a single
+// Along a row the inverse map is smooth: the quadratic through the last three solutions
+// predicts the next one to O(pitch^3), usually within the residual tolerance, so a single
 // value-only evaluation settles the pixel. Where the map bends too fast for it (small or
 // strongly curved cells), a failed guess costs an evaluation, so after a failure the next
 // few pixels go straight to Newton.
@@ -103,15 +100,8 @@ bool CellTracer::prediction(Row& r, Vec3& guess) {
   if (s != TracingStrategy::kPredict && s != TracingStrategy::kFlood) return false;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
-  if (col < 4 || col < r.retry_prediction_at || !r.ok[c - 1] || !r.ok[c - 2] || !r.ok[c - 3] || !r.ok[c - 4])
-    return false;
-  guess = 4.0 * (r.uvw[c - 1] + r.uvw[c - 3]) - 6.0 * r.uvw[c - 2] - r.uvw[c - 4];
-  // The extrapolation assumes one polynomial piece: where the row crosses a knot, the
-  // inverse map's higher derivatives jump and the guess would usually miss. Such pixels go
-  // to Newton from the neighbour, without backing off, and extrapolation resumes once four
-  // solutions lie in the new piece.
-  if (!r.piece.contains(r.uvw[c - 1])) r.piece = volume_.piece_box(r.uvw[c - 1]);
-  if (!r.piece.contains(r.uvw[c - 4]) || !r.piece.contains(guess)) return false;
+  if (col < 3 || col < r.retry_prediction_at || !r.ok[c - 1] || !r.ok[c - 2] || !r.ok[c - 3]) return false;
+  guess = 3.0 * (r.uvw[c - 1] - r.uvw[c - 2]) + r.uvw[c - 3];
   if (!volume_.domain().contains(guess)) {
     r.retry_prediction_at = col + kPredictionBackoff;
     return false;
@@ -131,7 +121,7 @@ bool CellTracer::accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value) {
   // The neighbour's Jacobian is still a good predictor for the next row.
   const Mat3& jacobian = r.jac[c - 1];
   copy_jacobian(jacobian, r.jac[c]);
-  // The extrapolation weighs the last solutions by 4, -6, 4, -1, so their errors (up to the
+  // The extrapolation weighs the last solutions by 3, -3, 1, so their errors (up to the
   // tolerance) would grow along the row. The seed kept for the next pixels takes a Newton
   // step with the neighbour's Jacobian: no evaluation, and it shrinks that error by the
   // Jacobian's change over a pixel. The pixel's own answer stays the checked `guess`.

@@ -74,13 +74,12 @@ class CellTracer {
     std::vector<Mat3> jac;   // per column: the Jacobian near it, for prediction
     std::vector<std::uint8_t> ok;  // per column: solved
     int retry_prediction_at = 0;
-    ParamBox piece;          // the polynomial piece of the latest solution
     TracedRow out;
   };
 
   void start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans);
   // The row extrapolation's guess for the row's next pixel, when it should be tried (every
-  // pixel it uses solved, all in one polynomial piece with the guess, inside the domain).
+  // pixel it uses solved, not backed off, the guess inside the domain).
   bool prediction(Row& r, Vec3& guess);
   // Whether the guess's value is within the tolerance of x; records the pixel if so, else
   // backs the prediction off.

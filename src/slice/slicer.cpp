@@ -64,8 +64,16 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   scene.printer.validate();
   dither_ = params_.dither.value_or(scene.dithering.value_or(DitherParams{}));
   dither_.validate();
-  outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(
-      0.25 * std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
+  // An eighth of the finest pitch: the band of candidates the outline cannot decide, and so
+  // the global solves that prove its pixels outside, halve with the tolerance, while the
+  // outline meshes grow little (measured in docs/PERFORMANCE.md).
+  const double finest_pitch_mm =
+      std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm});
+  outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(0.125 * finest_pitch_mm);
+  // Model-space shells decide pixels by their tessellation alone: half the outline
+  // tolerance when one is given, else an eighth of the finest pitch.
+  const double shell_tolerance_mm =
+      params_.outline_tolerance_mm ? 0.5 * *params_.outline_tolerance_mm : 0.125 * finest_pitch_mm;
   // The control points' box holds every cell, so its layout bounds the final one: checking it
   // first refuses a job too large to lay out before any outline is built.
   try {
@@ -85,9 +93,8 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
     }
     return t;
   };
-  // Shells shared by several clauses are tessellated once. Model-space shells are decided by
-  // their tessellation alone, so they get half the outline tolerance (an eighth of a pixel
-  // by default); parametric ones 1e-4 of the cell's parameter box.
+  // Shells shared by several clauses are tessellated once: model-space shells to the shell
+  // tolerance, parametric ones to 1e-4 of the cell's parameter box.
   std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
   int shell_slots = 0;
   for (const Cell& c : scene.cells) {
@@ -117,7 +124,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
         };
         if (!mesh) {
           const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo)
-                                         : 0.5 * outline_tolerance_mm_;
+                                         : shell_tolerance_mm;
           auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_)
                          : std::make_shared<ShellMesh>(*clause.shell, tolerance);
           if (m->open_edges() > 0)
@@ -145,8 +152,10 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   }
   Box3 bounds;
   for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->mesh.bounds());
-  // The meshes lie within the tolerance of the true boundary.
-  const Vec3 grow{outline_tolerance_mm_, outline_tolerance_mm_, outline_tolerance_mm_};
+  // The meshes lie within the tolerance of the true boundary; the layout keeps a margin of at
+  // least a quarter of the finest pitch.
+  const double margin_mm = std::max(outline_tolerance_mm_, 0.25 * finest_pitch_mm);
+  const Vec3 grow{margin_mm, margin_mm, margin_mm};
   if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
   layout_ = make_layout(bounds, scene.printer);
 }

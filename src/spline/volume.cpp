@@ -71,17 +71,6 @@ void Volume::evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noex
   evaluate_jacobian_fn_(data(), uvw, value, jacobian);
 }
 
-ParamBox Volume::piece_box(Vec3 uvw) const noexcept {
-  ParamBox box;
-  for (int d = 0; d < 3; ++d) {
-    const KnotVector& kv = spline_.knots(d);
-    const auto span = static_cast<std::size_t>(kv.find_span(std::clamp(uvw[d], kv.lo(), kv.hi())));
-    box.lo[d] = kv.knots()[span];
-    box.hi[d] = kv.knots()[span + 1];
-  }
-  return box;
-}
-
 Box3 Volume::bounds(const ParamBox& box) const noexcept {
   // Basis functions whose support [t_i, t_{i+k}) meets [lo, hi] along each direction.
   std::array<int, 3> i0{}, i1{};

@@ -130,6 +130,43 @@ TEST(Slicer, TracingStrategiesReduceGlobalSolvesAsInTable1) {
   EXPECT_LT(share[5], share[4]);
 }
 
+// The outline only chooses which pixels to invert: a finer one leaves fewer candidates just
+// outside the cell to prove outside, and every pixel is still inside exactly when the global
+// solver finds its centre a preimage.
+TEST(Slicer, OutlineToleranceChangesTheWorkNotThePixels) {
+  const Volume column = test::twisted_bent_box(8, 6, 5);
+  const GlobalSolver solver(column);
+  const Scene scene = test::scene_with({test::constant_cell(column, 0, 1)}, 1);
+  std::int64_t last_globals = -1, last_candidates = -1;
+  for (double tolerance : {0.0035, 0.0015, 0.0006}) {
+    SliceParams p;
+    p.outline_tolerance_mm = tolerance;
+    const Slicer slicer(scene, p);
+    const SliceLayout& L = slicer.layout();
+    std::int64_t globals = 0, candidates = 0;
+    int wrong = 0;
+    for (int layer : {L.num_layers / 4, L.num_layers / 2}) {
+      const LayerResult r = slicer.slice_layer(layer);
+      globals += r.stats.global_calls;
+      candidates += r.stats.candidates;
+      EXPECT_EQ(r.stats.unresolved_pixels, 0);
+      for (int row = 0; row < L.height_px; ++row)
+        for (int col = 0; col < L.width_px; ++col) {
+          const bool inside = r.labels.at(col, row) != LabelImage::kVoid;
+          const bool reference = !solver.solve({L.x_of_col(col), L.y_of_row(row), L.z_of_layer(layer)}).preimages.empty();
+          if (inside != reference && ++wrong < 5) ADD_FAILURE() << tolerance << ": pixel " << col << "," << row;
+        }
+    }
+    EXPECT_EQ(wrong, 0) << tolerance;
+    if (last_globals >= 0) {
+      EXPECT_LT(globals, last_globals) << tolerance;
+      EXPECT_LT(candidates, last_candidates) << tolerance;
+    }
+    last_globals = globals;
+    last_candidates = candidates;
+  }
+}
+
 TEST(Slicer, LastCellWithMaterialWins) {
   // Two overlapping boxes: the second cell owns the overlap.
   const Scene scene = test::scene_with({test::constant_cell(box_volume({0, 0, 0}, {6, 4, 1}), 0, 2, "a"),

@@ -17,8 +17,8 @@ enum class TracingStrategy {
   kPreviousPoint,  // the previous pixel of the row
   kPreviousLine,   // the previous pixel of the row, else the pixel above
   kFull,           // any already solved 8-neighbour (left, up-left, up, up-right)
-  kPredict,        // full, but first the cubic through the row's last four solutions (all
-                   // in one polynomial piece of the volume), checked with one evaluation
+  kPredict,        // full, but first the quadratic through the row's last three solutions,
+                   // checked with one evaluation
   kFlood,          // predict, then the nearest solved pixel of this row or the row above
                    // (within 64 pixels) before the global solver: a span that starts where
                    // the row above had no solved neighbour is reached from inside the cell
@@ -39,7 +39,10 @@ struct SliceParams {
   GlobalSolveParams global;
   // Largest distance (mm) between a cell's boundary and its triangulated outline. Pixels
   // whose centres lie within this distance of the outline are decided by the exact inverse;
-  // the rest by the outline. A quarter of the finest pixel pitch by default.
+  // the rest by the outline. An eighth of the finest pitch (pixel or layer) by default: the
+  // narrower the band, the fewer global solves prove its pixels outside. Model-space trim
+  // shells are tessellated to half this tolerance when it is given, else to an eighth of
+  // the finest pitch.
   std::optional<double> outline_tolerance_mm;
   // Cells trimmed "inside" a parametric trim invert only the pixels within the trim's
   // outline (its tessellation mapped through the cell's volume, cut by the layer, widened by

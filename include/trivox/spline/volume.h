@@ -65,11 +65,6 @@ class Volume {
   // V and its Jacobian (column c = dV/d(param c)) in one pass.
   void evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noexcept;
 
-  // The parameter box of the polynomial piece (knot span in each direction) holding uvw,
-  // with the knot-span convention of evaluation (the span to the right at an interior
-  // knot, the last span at the domain's upper end). Parameters are clamped to the domain.
-  ParamBox piece_box(Vec3 uvw) const noexcept;
-
   // Box of all Euclidean control points: contains the whole image.
   const Box3& bounds() const noexcept { return bounds_; }
 
