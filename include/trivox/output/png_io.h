@@ -30,10 +30,12 @@ enum class PngStrategy { kDefault, kFiltered, kRle, kHuffmanOnly };
 std::string_view to_string(PngStrategy strategy) noexcept;
 
 struct PngWriteParams {
-  // The defaults favour speed. On a dithered 3040 x 1512 RGBA slice (3 materials, fsync
-  // included, busy 2-core machine) level 1 wrote 1.51 MB in 140-165 ms, level 6 0.78 MB in
-  // 535-885 ms, level 9 0.68 MB in 8-13 s. Row filters only add work on dithered, noise-like
-  // images: with adaptive filtering level 1 grew to 2.14 MB and took 460 ms.
+  // The defaults favour speed: of every setting bench/png_settings_bench times on dithered
+  // layers (docs/PERFORMANCE.md, "PNG settings"), level 1 with no filter encodes fastest;
+  // the `sub` filter with the `rle` strategy makes files about half as large for about a
+  // fifth more time, and higher levels cost more time for little. On a noise-like slice
+  // (3 materials, 3040 x 1512, fsync included) level 1 wrote 1.51 MB in 140-165 ms, level 6
+  // 0.78 MB in 535-885 ms, level 9 0.68 MB in 8-13 s.
   int zlib_level = 1;  // 0 (store) to 9 (smallest)
   PngFilter filter = PngFilter::kNone;
   PngStrategy strategy = PngStrategy::kDefault;
