@@ -32,11 +32,13 @@
 #include <mutex>
 #include <sstream>
 #include <system_error>
+#include <utility>
 
 #include <fmt/format.h>
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Prune.h>
+#include <tbb/task_arena.h>
 
 #include "output/layer_spool.h"
 #include "output/stack_writers.h"
@@ -51,6 +53,16 @@ namespace {
 void initialize_openvdb() {
   static std::once_flag once;
   std::call_once(once, [] { openvdb::initialize(); });
+}
+
+// OpenVDB runs some tree algorithms with TBB on every core (freeing a tree's nodes, the
+// statistics it writes into a file, memory and voxel counts). trivox parallelises across
+// layers only (docs/ARCHITECTURE.md, "One parallel seam"), so every use of OpenVDB here runs
+// in an arena of one thread: on the calling thread, with nothing handed between threads.
+template <class F>
+auto on_calling_thread(F&& f) -> decltype(f()) {
+  tbb::task_arena arena(1);
+  return arena.execute(std::forward<F>(f));
 }
 
 constexpr long kUuidOffset = 21;  // magic (8), file version (4), library version (8), offsets flag (1)
@@ -114,72 +126,76 @@ openvdb::MetaMap file_metadata() {
 
 std::vector<VdbGridSummary> read_vdb_stack(const std::filesystem::path& path) {
   initialize_openvdb();
-  std::vector<VdbGridSummary> out;
-  try {
-    openvdb::io::File file(path.string());
-    file.open(false);  // read everything now: no delayed loading from a file that may change
-    const openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    for (const openvdb::GridBase::Ptr& base : *grids) {
-      const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-      if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
-      const openvdb::math::Transform& xf = grid->transform();
-      if (!xf.isLinear()) throw IoError(fmt::format("{}: grid '{}' has no linear transform", path.string(), grid->getName()));
-      VdbGridSummary s;
-      s.name = grid->getName();
-      s.value_type = grid->valueType();
-      s.grid_class = openvdb::GridBase::gridClassToString(grid->getGridClass());
-      const openvdb::Vec3d size = xf.voxelSize();
-      const openvdb::Vec3d origin = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
-      s.voxel_size_mm = {size.x(), size.y(), size.z()};
-      s.index_origin_mm = {origin.x(), origin.y(), origin.z()};
-      for (auto it = grid->tree().cbeginValueOn(); it; ++it) {
-        const openvdb::CoordBBox box = it.getBoundingBox();  // one voxel, or a whole tile
-        for (auto c = box.begin(); c; ++c) {
-          s.active.push_back({(*c).x(), (*c).y(), (*c).z()});
-          if (*it != 1.0f) ++s.values_not_one;
+  return on_calling_thread([&] {
+    std::vector<VdbGridSummary> out;
+    try {
+      openvdb::io::File file(path.string());
+      file.open(false);  // read everything now: no delayed loading from a file that may change
+      const openvdb::GridPtrVecPtr grids = file.getGrids();
+      file.close();
+      for (const openvdb::GridBase::Ptr& base : *grids) {
+        const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
+        const openvdb::math::Transform& xf = grid->transform();
+        if (!xf.isLinear()) throw IoError(fmt::format("{}: grid '{}' has no linear transform", path.string(), grid->getName()));
+        VdbGridSummary s;
+        s.name = grid->getName();
+        s.value_type = grid->valueType();
+        s.grid_class = openvdb::GridBase::gridClassToString(grid->getGridClass());
+        const openvdb::Vec3d size = xf.voxelSize();
+        const openvdb::Vec3d origin = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
+        s.voxel_size_mm = {size.x(), size.y(), size.z()};
+        s.index_origin_mm = {origin.x(), origin.y(), origin.z()};
+        for (auto it = grid->tree().cbeginValueOn(); it; ++it) {
+          const openvdb::CoordBBox box = it.getBoundingBox();  // one voxel, or a whole tile
+          for (auto c = box.begin(); c; ++c) {
+            s.active.push_back({(*c).x(), (*c).y(), (*c).z()});
+            if (*it != 1.0f) ++s.values_not_one;
+          }
         }
+        std::sort(s.active.begin(), s.active.end());
+        out.push_back(std::move(s));
       }
-      std::sort(s.active.begin(), s.active.end());
-      out.push_back(std::move(s));
+    } catch (const Error&) {
+      throw;
+    } catch (const std::exception& e) {  // OpenVDB's exceptions and its streams' failures
+      throw IoError(fmt::format("{}: cannot read as OpenVDB: {}", path.string(), e.what()));
     }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {  // OpenVDB's exceptions and its streams' failures
-    throw IoError(fmt::format("{}: cannot read as OpenVDB: {}", path.string(), e.what()));
-  }
-  return out;
+    return out;
+  });
 }
 
 std::vector<VdbGridInfo> read_vdb_grid_info(const std::filesystem::path& path) {
   initialize_openvdb();
-  std::vector<VdbGridInfo> out;
-  try {
-    openvdb::io::File file(path.string());
-    file.open(false);  // read every buffer now, so that a broken one is found
-    const openvdb::GridPtrVecPtr grids = file.getGrids();
-    file.close();
-    for (const openvdb::GridBase::Ptr& base : *grids) {
-      const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-      if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
-      VdbGridInfo info;
-      info.name = grid->getName();
-      info.value_type = grid->valueType();
-      info.active_voxels = static_cast<std::uint64_t>(grid->activeVoxelCount());
-      info.memory_bytes = static_cast<std::uint64_t>(grid->memUsage());
-      if (info.active_voxels > 0) {
-        const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
-        info.min = {box.min().x(), box.min().y(), box.min().z()};
-        info.max = {box.max().x(), box.max().y(), box.max().z()};
+  return on_calling_thread([&] {
+    std::vector<VdbGridInfo> out;
+    try {
+      openvdb::io::File file(path.string());
+      file.open(false);  // read every buffer now, so that a broken one is found
+      const openvdb::GridPtrVecPtr grids = file.getGrids();
+      file.close();
+      for (const openvdb::GridBase::Ptr& base : *grids) {
+        const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+        if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
+        VdbGridInfo info;
+        info.name = grid->getName();
+        info.value_type = grid->valueType();
+        info.active_voxels = static_cast<std::uint64_t>(grid->activeVoxelCount());
+        info.memory_bytes = static_cast<std::uint64_t>(grid->memUsage());
+        if (info.active_voxels > 0) {
+          const openvdb::CoordBBox box = grid->evalActiveVoxelBoundingBox();
+          info.min = {box.min().x(), box.min().y(), box.min().z()};
+          info.max = {box.max().x(), box.max().y(), box.max().z()};
+        }
+        out.push_back(std::move(info));
       }
-      out.push_back(std::move(info));
+    } catch (const Error&) {
+      throw;
+    } catch (const std::exception& e) {  // OpenVDB's exceptions and its streams' failures
+      throw IoError(fmt::format("{}: cannot read as OpenVDB: {}", path.string(), e.what()));
     }
-  } catch (const Error&) {
-    throw;
-  } catch (const std::exception& e) {  // OpenVDB's exceptions and its streams' failures
-    throw IoError(fmt::format("{}: cannot read as OpenVDB: {}", path.string(), e.what()));
-  }
-  return out;
+    return out;
+  });
 }
 
 namespace detail {
@@ -224,25 +240,33 @@ class VdbWriter final : public LayerWriter {
     cost.scratch_bytes = scaled_to_job(sampling, [&](int index) { return spool_->size(index); });
     if (sampling.model_samples.empty() || sampling.model_layers <= 0) return cost;
     const int layers = 8 * static_cast<int>(sampling.model_samples.size());
-    const std::vector<openvdb::FloatGrid::Ptr> grids =
-        build_grids(layers, [&](int k) { return sampling.model_samples[static_cast<std::size_t>(k / 8)]; }, c_.dir / "vdb");
-    std::uint64_t memory = 0;
-    for (const auto& g : grids) memory += static_cast<std::uint64_t>(g->memUsage());
-    std::ostringstream file;
-    CheckedArchive().write_to(file, openvdb::GridCPtrVec(grids.begin(), grids.end()), file_metadata());
+    const std::pair<std::uint64_t, std::uint64_t> measured = on_calling_thread([&] {
+      const std::vector<openvdb::FloatGrid::Ptr> grids =
+          build_grids(layers, [&](int k) { return sampling.model_samples[static_cast<std::size_t>(k / 8)]; }, c_.dir / "vdb");
+      std::uint64_t bytes = 0;
+      for (const auto& g : grids) bytes += static_cast<std::uint64_t>(g->memUsage());
+      std::ostringstream file;
+      CheckedArchive().write_to(file, openvdb::GridCPtrVec(grids.begin(), grids.end()), file_metadata());
+      return std::pair<std::uint64_t, std::uint64_t>{bytes, static_cast<std::uint64_t>(file.tellp())};
+    });
     const auto scale = [&](std::uint64_t bytes) {
       return (bytes * static_cast<std::uint64_t>(sampling.model_layers) + static_cast<std::uint64_t>(layers) - 1) /
              static_cast<std::uint64_t>(layers);
     };
-    cost.file_bytes = scale(static_cast<std::uint64_t>(file.tellp()));
+    cost.file_bytes = scale(measured.second);
     std::uint64_t largest_blob = 0;
     for (int index : sampling.model_samples) largest_blob = std::max(largest_blob, spool_->size(index));
     // The grids, one layer of labels and its compressed form.
-    cost.memory_bytes = scale(memory) + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
+    cost.memory_bytes = scale(measured.first) + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
     return cost;
   }
 
   std::vector<std::string> finish() const override {
+    return on_calling_thread([&] { return write_file(); });
+  }
+
+ private:
+  std::vector<std::string> write_file() const {
     const std::string file = "vdb/stack.vdb";
     const std::filesystem::path target = c_.dir / file;
     const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(c_.total_layers, [](int k) { return k; }, target);
@@ -277,7 +301,6 @@ class VdbWriter final : public LayerWriter {
     return {file};
   }
 
- private:
   // One grid per material over `layers` layers, layer k holding the spooled labels of job
   // layer source(k), built in increasing k; `what` names the output in errors.
   std::vector<openvdb::FloatGrid::Ptr> build_grids(int layers, const std::function<int(int)>& source,
