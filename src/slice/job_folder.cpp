@@ -113,7 +113,8 @@ int material_count(const JobManifest& m) {
 // entry of a GrabCAD package (its PNGs decoded). Returns the problem, or "".
 std::string decode_problem(const std::filesystem::path& path, const JobManifest& m) {
   const std::string ext = path.extension().string();
-  const auto [width, height] = bitmap_size(m);
+  const std::pair<int, int> size = bitmap_size(m);
+  const int width = size.first, height = size.second;  // (clang 14 cannot capture structured bindings)
   const auto size_problem = [&](const std::string& what, int w, int h) {
     if (width == 0 || (w == width && h == height)) return std::string();
     return fmt::format("{}: {} is {} x {} px, the job's layers are {} x {}", path.string(), what, w, h, width, height);
