@@ -231,33 +231,46 @@ class VdbWriter final : public LayerWriter {
   }
 
   // The grids hold every active voxel of the job, so they are what the writer's memory
-  // grows with. They are measured on a stack built from the sampled model layers, each
-  // repeated over the 8 layers a leaf node spans (so that leaves fill as in a real stack and
-  // uniform ones become tiles), and scaled to the model layers; padding layers hold no voxels.
+  // grows with. A leaf spans 8 layers: the model layers fill whole 8-layer slabs, where
+  // uniform leaves become tiles, and the last slab may be partly empty (padding), where no
+  // leaf with voxels is uniform. Both are measured on grids built from the sampled layers:
+  // each sample repeated over a whole slab, and over the first model_layers % 8 layers of a
+  // slab left empty above; scaled to the job's slabs. The file is measured the same way, as
+  // OpenVDB writes those grids.
   StackCost stack_cost(const StackSampling& sampling) const override {
     StackCost cost;
     cost.files = 1;
     cost.scratch_bytes = scaled_to_job(sampling, [&](int index) { return spool_->size(index); });
     if (sampling.model_samples.empty() || sampling.model_layers <= 0) return cost;
-    const int layers = 8 * static_cast<int>(sampling.model_samples.size());
-    const std::pair<std::uint64_t, std::uint64_t> measured = on_calling_thread([&] {
-      const std::vector<openvdb::FloatGrid::Ptr> grids =
-          build_grids(layers, [&](int k) { return sampling.model_samples[static_cast<std::size_t>(k / 8)]; }, c_.dir / "vdb");
-      std::uint64_t bytes = 0;
-      for (const auto& g : grids) bytes += static_cast<std::uint64_t>(g->memUsage());
-      std::ostringstream file;
-      CheckedArchive().write_to(file, openvdb::GridCPtrVec(grids.begin(), grids.end()), file_metadata());
-      return std::pair<std::uint64_t, std::uint64_t>{bytes, static_cast<std::uint64_t>(file.tellp())};
-    });
-    const auto scale = [&](std::uint64_t bytes) {
-      return (bytes * static_cast<std::uint64_t>(sampling.model_layers) + static_cast<std::uint64_t>(layers) - 1) /
-             static_cast<std::uint64_t>(layers);
+    const auto samples = static_cast<int>(sampling.model_samples.size());
+    const int full_slabs = sampling.model_layers / 8, rest = sampling.model_layers % 8;
+    // Memory and file bytes of `samples` slabs, slab s holding sample s in its first `filled`
+    // layers.
+    const auto measure = [&](int filled) {
+      return on_calling_thread([&] {
+        const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(
+            8 * samples, [&](int k) { return k % 8 < filled ? sampling.model_samples[static_cast<std::size_t>(k / 8)] : -1; },
+            c_.dir / "vdb");
+        std::uint64_t memory = 0;
+        for (const auto& g : grids) memory += static_cast<std::uint64_t>(g->memUsage());
+        std::ostringstream file;
+        CheckedArchive().write_to(file, openvdb::GridCPtrVec(grids.begin(), grids.end()), file_metadata());
+        return std::pair<std::uint64_t, std::uint64_t>{memory, static_cast<std::uint64_t>(file.tellp())};
+      });
     };
-    cost.file_bytes = scale(measured.second);
+    std::pair<std::uint64_t, std::uint64_t> total{0, 0};
+    const auto add = [&](const std::pair<std::uint64_t, std::uint64_t>& measured, int slabs) {
+      const auto n = static_cast<std::uint64_t>(samples);
+      total.first += (measured.first * static_cast<std::uint64_t>(slabs) + n - 1) / n;
+      total.second += (measured.second * static_cast<std::uint64_t>(slabs) + n - 1) / n;
+    };
+    if (full_slabs > 0) add(measure(8), full_slabs);
+    if (rest > 0) add(measure(rest), 1);
+    cost.file_bytes = total.second;
     std::uint64_t largest_blob = 0;
     for (int index : sampling.model_samples) largest_blob = std::max(largest_blob, spool_->size(index));
     // The grids, one layer of labels and its compressed form.
-    cost.memory_bytes = scale(measured.first) + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
+    cost.memory_bytes = total.first + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
     return cost;
   }
 
@@ -302,7 +315,8 @@ class VdbWriter final : public LayerWriter {
   }
 
   // One grid per material over `layers` layers, layer k holding the spooled labels of job
-  // layer source(k), built in increasing k; `what` names the output in errors.
+  // layer source(k) (none when it is negative), built in increasing k; `what` names the
+  // output in errors.
   std::vector<openvdb::FloatGrid::Ptr> build_grids(int layers, const std::function<int(int)>& source,
                                                    const std::filesystem::path& what) const {
     std::vector<openvdb::FloatGrid::Ptr> grids;
@@ -332,12 +346,16 @@ class VdbWriter final : public LayerWriter {
       std::vector<std::uint8_t> labels(static_cast<std::size_t>(width_) * static_cast<std::size_t>(height_));
       for (int k = 0; k < layers; ++k) {
         const int index = source(k);
-        const std::string packed = spool_->get(index);
-        uLongf size = static_cast<uLongf>(labels.size());
-        if (uncompress(labels.data(), &size, reinterpret_cast<const Bytef*>(packed.data()), static_cast<uLong>(packed.size())) !=
-                Z_OK ||
-            size != labels.size())
-          throw Error(fmt::format("vdb: layer {} does not decompress to {} x {} labels", index + 1, width_, height_));
+        if (index >= 0) {
+          const std::string packed = spool_->get(index);
+          uLongf size = static_cast<uLongf>(labels.size());
+          if (uncompress(labels.data(), &size, reinterpret_cast<const Bytef*>(packed.data()),
+                         static_cast<uLong>(packed.size())) != Z_OK ||
+              size != labels.size())
+            throw Error(fmt::format("vdb: layer {} does not decompress to {} x {} labels", index + 1, width_, height_));
+        } else {
+          std::fill(labels.begin(), labels.end(), std::uint8_t{0});  // an empty layer
+        }
         for (int row = 0; row < height_; ++row) {
           const std::uint8_t* line = labels.data() + static_cast<std::size_t>(row) * static_cast<std::size_t>(width_);
           const int j_index = height_ - 1 - row;

@@ -99,8 +99,8 @@ TEST(JobEstimate, RefusesWhatTheDiskOrMemoryCannotTake) {
 
 // The stack outputs write nothing per layer: their files, their spools and the memory they
 // hold must still be counted. With every model layer sampled, the TIFF and the package are
-// predicted to within their headers, the OpenVDB file and grids (measured on each sample
-// repeated over a leaf's 8 layers) to within a factor of two.
+// predicted to within their headers, the OpenVDB file and grids (measured on grids built
+// from the samples, slab by slab) to within a factor of two.
 TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
   const Scene scene = estimate_scene();
   const Slicer slicer(scene, {});
