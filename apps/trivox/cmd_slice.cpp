@@ -30,6 +30,7 @@ struct SliceOptions {
   JobOptions job;
   bool quiet = false;
   bool resume = false;
+  double manifest_interval_s = JobParams{}.manifest_interval_seconds;
 };
 
 // Set by SIGINT / SIGTERM; the job stops starting layers once it is set. The handler is
@@ -123,6 +124,7 @@ void run(const SliceOptions& so) {
   JobParams job = job_params_of(o);
   job.resume = so.resume;
   job.stop = &g_stop;
+  job.manifest_interval_seconds = so.manifest_interval_s;
 
   const Scene scene = read_scene(o.scene);
   const SliceParams params = slice_params_of(o, scene);
@@ -189,6 +191,10 @@ void add_slice_command(CLI::App& app) {
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress output");
   cmd->add_flag("--resume", opts->resume,
                 "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
+  cmd->add_option("--manifest-interval", opts->manifest_interval_s,
+                  "Seconds between rewrites of manifest.json while layers complete (0: after every layer); a "
+                  "killed job redoes at most the layers of one interval")
+      ->check(CLI::Range(0.0, 86400.0));
   cmd->callback([opts] { run(*opts); });
 }
 

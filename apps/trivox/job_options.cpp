@@ -142,12 +142,17 @@ void print_estimate(const JobEstimate& e) {
   fmt::print("  layers: {} ({} of the model, {} empty padding layers)\n", e.job_layers, e.model_layers, e.padded_layers);
   fmt::print("  bitmap: {} x {} px, {} voxels in all\n", e.width_px, e.height_px, e.pixels);
   if (e.sampled_layers > 0) {
+    // The layer files, the whole-job files and the manifest.
     fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
-               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + 1, e.sampled_layers);
+               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 1, e.sampled_layers);
+    if (e.scratch_bytes > 0)
+      fmt::print("  spool files: about {} more while the job runs (removed when it completes)\n", byte_text(e.scratch_bytes));
     fmt::print("  time: about {:.0f} s with {} (sample layers sliced one at a time on this machine now)\n", e.seconds,
                thread_text(e.threads));
   }
-  fmt::print("  peak memory: about {} with {}\n", byte_text(e.peak_memory_bytes), thread_text(e.threads));
+  fmt::print("  peak memory: about {} with {}{}\n", byte_text(e.peak_memory_bytes), thread_text(e.threads),
+             e.stack_memory_bytes > 0 ? fmt::format(" ({} of it for the stack outputs)", byte_text(e.stack_memory_bytes))
+                                      : std::string());
 }
 
 }  // namespace trivox::cli

@@ -9,6 +9,7 @@
 // finish() zips the PNGs in layer order and the configuration after them, through an
 // AtomicFile. The zip container is deterministic (zip_writer.h), so the package depends
 // only on the layers and the settings.
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 
@@ -79,6 +80,24 @@ class GcvfWriter final : public LayerWriter {
     width_ = labels.width_px();
     height_ = labels.height_px();
     return {};
+  }
+
+  // The package is the spooled PNGs, a local header (30 bytes) and a central directory entry
+  // (46 bytes) per entry, each with the entry's name, the configuration and the end record.
+  StackCost stack_cost(const StackSampling& sampling) const override {
+    std::lock_guard lock(mutex_);
+    StackCost cost;
+    cost.files = 1;
+    cost.scratch_bytes = scaled_to_job(sampling, [&](int index) { return spool_->size(index); });
+    const auto slices = static_cast<std::uint64_t>(sampling.model_layers + sampling.padded_layers);
+    const std::uint64_t name_bytes = image_name(c_.total_layers - 1).size();
+    // Voxel counts of the whole stack have up to 15 digits; the samples' fewer.
+    const std::uint64_t config = config_xml().size() + 16 * c_.material_names.size();
+    cost.file_bytes = cost.scratch_bytes + slices * (30 + 46 + 2 * name_bytes) + config + 2 * 14 + 30 + 46 + 22;
+    std::uint64_t largest_png = 0;
+    for (int index : sampling.model_samples) largest_png = std::max(largest_png, spool_->size(index));
+    cost.memory_bytes = largest_png + slices * palette_.size() * sizeof(std::int64_t);  // one PNG, the voxel counts
+    return cost;
   }
 
   std::vector<std::string> finish() const override {

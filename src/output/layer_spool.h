@@ -27,6 +27,8 @@ class LayerSpool {
   void put(int index, std::string_view bytes);
   // True once layer `index` has a blob.
   bool has(int index) const;
+  // The size of layer `index`'s blob; 0 when it has none.
+  std::uint64_t size(int index) const;
   // The blob of layer `index`. Throws Error when the layer never arrived, IoError when the
   // spool cannot be read.
   std::string get(int index) const;

@@ -15,6 +15,19 @@ std::string layer_number(int index, int total_layers) {
   return fmt::format("{:0{}d}", index + 1, digits);
 }
 
+std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<std::uint64_t(int)>& per_layer) {
+  std::uint64_t total = 0;
+  if (!sampling.model_samples.empty() && sampling.model_layers > 0) {
+    std::uint64_t sum = 0;
+    for (int index : sampling.model_samples) sum += per_layer(index);
+    const auto n = static_cast<std::uint64_t>(sampling.model_samples.size());
+    total += (sum * static_cast<std::uint64_t>(sampling.model_layers) + n - 1) / n;  // rounded up
+  }
+  if (sampling.padding_sample >= 0 && sampling.padded_layers > 0)
+    total += per_layer(sampling.padding_sample) * static_cast<std::uint64_t>(sampling.padded_layers);
+  return total;
+}
+
 namespace detail {
 
 std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context) {

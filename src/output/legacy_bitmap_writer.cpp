@@ -92,8 +92,17 @@ class LegacyBitmapWriter final : public LayerWriter {
     return files;
   }
 
+  StackCost stack_cost(const StackSampling&) const override { return {1, slices_text().size(), 0, 0}; }
+
   // The text manifest: known from the settings alone, written when the job completes.
   std::vector<std::string> finish() const override {
+    const std::string file = "legacy/slices.txt";
+    write_file_atomic(c_.dir / file, slices_text());
+    return {file};
+  }
+
+ private:
+  std::string slices_text() const {
     std::string text = "# trivox legacy bitmap job: one 1-bit BMP per material per slice (1 = material)\n";
     text += fmt::format("layer_thickness_mm {}\n", c_.layer_mm);
     text += fmt::format("slice_count {}\n", c_.total_layers);
@@ -106,12 +115,9 @@ class LegacyBitmapWriter final : public LayerWriter {
         text += fmt::format(" {}", std::filesystem::path(file_name(i, j)).filename().string());
       text += "\n";
     }
-    const std::string file = "legacy/slices.txt";
-    write_file_atomic(c_.dir / file, text);
-    return {file};
+    return text;
   }
 
- private:
   std::string file_name(int index, std::size_t material) const {
     return fmt::format("legacy/{}{}_{}.bmp", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[material]);
   }

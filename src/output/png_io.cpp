@@ -410,4 +410,21 @@ RgbaImage read_png_rgba(const std::filesystem::path& path) {
   return image;
 }
 
+RgbaImage decode_png_rgba(std::string_view bytes, const std::string& what) {
+  if (bytes.empty()) throw IoError(fmt::format("{}: not a readable PNG: no bytes", what));
+  // A read-only stream over the bytes: the same reader as for files.
+  std::FILE* stream = ::fmemopen(const_cast<char*>(bytes.data()), bytes.size(), "rb");
+  if (stream == nullptr) throw IoError(fmt::format("{}: cannot open a memory stream: {}", what, errno_text(errno)));
+  RgbaImage image;
+  PngReadJob job{};
+  job.file = stream;
+  job.rgba = &image.rgba;
+  const bool ok = read_png_core(&job);
+  std::fclose(stream);
+  if (!ok) throw IoError(fmt::format("{}: not a readable PNG: {}", what, job.error.text));
+  image.width_px = static_cast<int>(job.width);
+  image.height_px = static_cast<int>(job.height);
+  return image;
+}
+
 }  // namespace trivox

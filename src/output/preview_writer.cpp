@@ -68,6 +68,37 @@ class PreviewWriter final : public LayerWriter {
     return {};
   }
 
+  // The four images' pixels (4 bytes each) bound their PNGs, which hold them compressed (an
+  // upper bound: flat colours compress well); while the job runs the writer keeps a row and
+  // a column of each model layer, the thumbnails and the middle layer.
+  StackCost stack_cost(const StackSampling& sampling) const override {
+    std::lock_guard lock(mutex_);
+    StackCost cost;
+    cost.files = 4;
+    if (width_ == 0 || thumbs_.empty()) return cost;
+    const int n = std::max(1, sampling.model_layers);
+    const double wx = width_ * c_.pitch_x_mm, wy = height_ * c_.pitch_y_mm;
+    const double thumb_pitch = std::max(wx, wy) / kThumbSidePx;
+    const auto tw = static_cast<std::uint64_t>(resampled_count(width_, c_.pitch_x_mm, thumb_pitch));
+    const auto th = static_cast<std::uint64_t>(resampled_count(height_, c_.pitch_y_mm, thumb_pitch));
+    const auto cols = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(sheet_count_))));
+    const std::uint64_t rows = (static_cast<std::uint64_t>(sheet_count_) + cols - 1) / cols;
+    const auto iso = [&](int count, double pitch) { return static_cast<std::uint64_t>(resampled_count(count, pitch, iso_pitch())); };
+    const std::uint64_t images[] = {(cols * (tw + 1) + 1) * (rows * (th + 1) + 1),
+                                    iso(width_, c_.pitch_x_mm) * iso(height_, c_.pitch_y_mm),
+                                    iso(width_, c_.pitch_x_mm) * iso(n, c_.layer_mm),
+                                    iso(height_, c_.pitch_y_mm) * iso(n, c_.layer_mm)};
+    std::uint64_t largest = 0;
+    for (const std::uint64_t pixels : images) {
+      cost.file_bytes += 4 * pixels + 1024;  // and the file's headers
+      largest = std::max(largest, 4 * pixels);
+    }
+    const auto w = static_cast<std::uint64_t>(width_), h = static_cast<std::uint64_t>(height_);
+    // The rows, columns, thumbnails and middle layer collected, and one image being encoded.
+    cost.memory_bytes = (w + h) * static_cast<std::uint64_t>(n) + static_cast<std::uint64_t>(sheet_count_) * tw * th + w * h + largest;
+    return cost;
+  }
+
   std::vector<std::string> finish() const override {
     std::lock_guard lock(mutex_);
     for (std::size_t i = 0; i < rows_.size(); ++i)

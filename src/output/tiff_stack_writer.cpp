@@ -11,9 +11,12 @@
 #include <unistd.h>
 #include <zlib.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdarg>
 #include <cstdio>
 #include <mutex>
+#include <system_error>
 
 #include <fmt/format.h>
 
@@ -39,6 +42,11 @@ int on_tiff_message(TIFF*, void* user_data, const char* module, const char* fmt,
 }
 
 int on_tiff_warning(TIFF*, void*, const char*, const char*, va_list) { return 1; }
+
+// Why a stdio call failed, from errno (which a short write need not set).
+std::string errno_reason(int error_number) {
+  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message() : std::string("short write");
+}
 
 // A TIFF opened with our handlers, closed by the destructor.
 class TiffFile {
@@ -140,8 +148,9 @@ class TiffStackWriter final : public LayerWriter {
     if (compress2(packed.data(), &size, labels.values().data(), static_cast<uLong>(labels.values().size()), 6) != Z_OK)
       throw Error(fmt::format("tiff: cannot compress layer {}", index + 1));
     std::lock_guard lock(mutex_);
+    errno = 0;
     if (std::fseek(spool_, 0, SEEK_END) != 0 || std::fwrite(packed.data(), 1, size, spool_) != size)
-      throw IoError(fmt::format("{}: cannot write the page spool", spool_path_.string()));
+      throw IoError(fmt::format("{}: cannot write the page spool: {}", spool_path_.string(), errno_reason(errno)));
     pages_[static_cast<std::size_t>(index)] = {spool_end_, static_cast<std::uint64_t>(size)};
     spool_end_ += size;
     width_ = labels.width_px();
@@ -149,9 +158,31 @@ class TiffStackWriter final : public LayerWriter {
     return {};
   }
 
+  // Pages as spooled, each with its directory: 16 entries of 12 bytes with their count and
+  // link (198 bytes), the colour map (3 x 256 x 2 bytes) and the two resolutions (8 bytes
+  // each), word-aligned.
+  static constexpr std::uint64_t kPageOverheadBytes = 198 + 1536 + 16 + 2;
+
+  StackCost stack_cost(const StackSampling& sampling) const override {
+    std::lock_guard lock(mutex_);
+    const auto page = [&](int index) {
+      return index >= 0 && static_cast<std::size_t>(index) < pages_.size() ? pages_[static_cast<std::size_t>(index)].size
+                                                                             : std::uint64_t{0};
+    };
+    StackCost cost;
+    cost.files = 1;
+    cost.scratch_bytes = scaled_to_job(sampling, page);
+    cost.file_bytes = 8 + cost.scratch_bytes +
+                      kPageOverheadBytes * static_cast<std::uint64_t>(sampling.model_layers + sampling.padded_layers);
+    for (int index : sampling.model_samples) cost.memory_bytes = std::max(cost.memory_bytes, page(index));  // one page at a time
+    return cost;
+  }
+
   std::vector<std::string> finish() const override {
     std::lock_guard lock(mutex_);
-    if (std::fflush(spool_) != 0) throw IoError(fmt::format("{}: cannot write the page spool", spool_path_.string()));
+    errno = 0;
+    if (std::fflush(spool_) != 0)
+      throw IoError(fmt::format("{}: cannot write the page spool: {}", spool_path_.string(), errno_reason(errno)));
     const std::string file = "tiff/stack.tif";
     const std::filesystem::path target = c_.dir / file;
     // libtiff writes the file itself; give it a temporary name and rename it when whole.
@@ -198,10 +229,19 @@ class TiffStackWriter final : public LayerWriter {
       TIFFSetField(t, TIFFTAG_YRESOLUTION, static_cast<float>(10.0 / c_.pitch_y_mm));
       TIFFSetField(t, TIFFTAG_PAGENUMBER, static_cast<std::uint16_t>(std::min(i, 65535)),
                    static_cast<std::uint16_t>(std::min(c_.total_layers, 65535)));
-      if (TIFFWriteRawStrip(t, 0, page.data(), static_cast<tmsize_t>(size)) < 0 || TIFFWriteDirectory(t) != 1)
-        throw IoError(fmt::format("{}: cannot write page {}: {}", target.string(), i + 1, tif.message()));
+      errno = 0;
+      if (TIFFWriteRawStrip(t, 0, page.data(), static_cast<tmsize_t>(size)) < 0 || TIFFWriteDirectory(t) != 1) {
+        const int error_number = errno;  // libtiff's message does not say why a write failed
+        throw IoError(fmt::format("{}: cannot write page {}: {}{}", target.string(), i + 1, tif.message(),
+                                  error_number != 0 ? " (" + errno_reason(error_number) + ")" : std::string()));
+      }
     }
-    if (!tif.close()) throw IoError(fmt::format("{}: cannot finish the TIFF", target.string()));
+    errno = 0;
+    if (!tif.close()) {
+      const int error_number = errno;
+      throw IoError(fmt::format("{}: cannot finish the TIFF{}", target.string(),
+                                error_number != 0 ? ": " + errno_reason(error_number) : std::string()));
+    }
     // Make the bytes durable, then publish them under the final name.
     std::FILE* f = std::fopen(temp.c_str(), "rb+");
     if (f == nullptr || ::fsync(::fileno(f)) != 0) {

@@ -15,6 +15,7 @@
 
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
+#include "trivox/output/material_sheet.h"
 
 namespace trivox {
 
@@ -90,6 +91,10 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   ctx.pitch_y_mm = L.pitch_y_mm;
   ctx.layer_mm = L.layer_mm;
   ctx.png = params.png;
+  ctx.model_layers = e.model_layers;
+  ctx.x0_mm = L.x0_mm;
+  ctx.y_top_mm = L.y_top_mm;
+  ctx.z0_mm = L.z0_mm + first * L.layer_mm;
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
 
@@ -105,19 +110,42 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
     return bytes;
   };
   std::uint64_t sample_bytes = 0;
+  StackSampling sampling;
+  sampling.model_layers = shard_model;
+  sampling.padded_layers = shard_padded;
   const auto start = std::chrono::steady_clock::now();
   for (int s = 0; s < samples; ++s) {
     // Evenly spread: the middle of each of `samples` equal parts of the range.
     const int index = static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(e.model_layers) / (2 * samples));
     sample_bytes += encode(index, slicer.slice_layer(first + index).labels);
+    sampling.model_samples.push_back(index);
   }
   const double per_layer = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / samples;
   std::uint64_t padding_bytes = 0;
-  if (shard_padded > 0) padding_bytes = encode(e.model_layers, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
+  if (shard_padded > 0) {
+    padding_bytes = encode(e.model_layers, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
+    sampling.padding_sample = e.model_layers;
+  }
+  // The whole-job files: the colour-to-material sheet, measured, and what the stack outputs
+  // will write, hold on disk while the job runs and keep in memory, from the same samples.
+  std::vector<MaterialSheetRow> sheet;
+  for (const MaterialDef& mat : slicer.scene().materials) sheet.push_back({mat.name, mat.library, mat.rgba});
+  write_material_sheet(scratch / "materials.csv", params.background_rgba, sheet);
+  std::uint64_t whole_job_bytes = std::filesystem::file_size(scratch / "materials.csv");
+  e.whole_job_files = 1;
+  for (const auto& w : writers) {
+    const StackCost cost = w->stack_cost(sampling);
+    e.whole_job_files += cost.files;
+    whole_job_bytes += cost.file_bytes;
+    e.scratch_bytes += cost.scratch_bytes;
+    e.stack_memory_bytes += cost.memory_bytes;
+  }
+  e.peak_memory_bytes += e.stack_memory_bytes;
   e.sampled_layers = samples;
+  const std::uint64_t files = static_cast<std::uint64_t>(e.files_per_layer) * static_cast<std::uint64_t>(e.job_layers) +
+                              static_cast<std::uint64_t>(e.whole_job_files);
   e.output_bytes = sample_bytes / static_cast<std::uint64_t>(samples) * static_cast<std::uint64_t>(shard_model) +
-                   padding_bytes * static_cast<std::uint64_t>(shard_padded) +
-                   kManifestBytesPerFile * static_cast<std::uint64_t>(e.files_per_layer) * static_cast<std::uint64_t>(e.job_layers);
+                   padding_bytes * static_cast<std::uint64_t>(shard_padded) + whole_job_bytes + kManifestBytesPerFile * files;
   e.seconds = per_layer * std::ceil(static_cast<double>(shard_model) / e.threads);
   return e;
 }
@@ -125,7 +153,14 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
 std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir) {
   std::filesystem::path p = dir.empty() ? std::filesystem::path(".") : dir;
   std::error_code ec;
-  while (!std::filesystem::exists(p, ec) && p.has_parent_path() && p.parent_path() != p) p = p.parent_path();
+  while (!std::filesystem::exists(p, ec)) {
+    if (p.has_parent_path() && p.parent_path() != p) {
+      p = p.parent_path();
+    } else {  // a relative path none of whose folders exists yet: it will be made here
+      p = p.is_absolute() ? p.root_path() : std::filesystem::path(".");
+      break;
+    }
+  }
   struct statvfs st {};
   if (::statvfs(p.c_str(), &st) != 0) return std::nullopt;
   return static_cast<std::uint64_t>(st.f_bavail) * static_cast<std::uint64_t>(st.f_frsize);
@@ -144,17 +179,29 @@ std::optional<std::uint64_t> memory_limit_bytes() {
 }
 
 void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> memory_limit) {
-  if (e.sampled_layers > 0) {
-    if (const auto free = free_disk_bytes(params.output_dir); free && e.output_bytes > *free)
-      throw Error(fmt::format("{}: the job needs about {} of disk ({} layers x {} files) but only {} is free there; "
+  check_job_fits(e, params, memory_limit, e.sampled_layers > 0 ? free_disk_bytes(params.output_dir) : std::nullopt);
+}
+
+void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> memory_limit,
+                    std::optional<std::uint64_t> free_disk) {
+  if (e.sampled_layers > 0 && free_disk) {
+    const std::uint64_t needed = e.output_bytes + e.scratch_bytes;
+    if (needed > *free_disk) {
+      std::string what = fmt::format("{} layers x {} files", e.job_layers, e.files_per_layer);
+      if (e.whole_job_files > 0) what += fmt::format(", {} files of the whole job", e.whole_job_files);
+      if (e.scratch_bytes > 0) what += fmt::format(", {} of spool files while it runs", byte_text(e.scratch_bytes));
+      throw Error(fmt::format("{}: the job needs about {} of disk ({}) but only {} is free there; "
                               "free some space, choose another folder, or override with --no-checks",
-                              params.output_dir.string(), byte_text(e.output_bytes), e.job_layers, e.files_per_layer,
-                              byte_text(*free)));
+                              params.output_dir.string(), byte_text(needed), what, byte_text(*free_disk)));
+    }
   }
   if (memory_limit && e.peak_memory_bytes > *memory_limit)
-    throw Error(fmt::format("the job needs about {} of memory with {} ({} x {} px layers) but the limit is {}; "
+    throw Error(fmt::format("the job needs about {} of memory with {} ({} x {} px layers{}) but the limit is {}; "
                             "use fewer threads (-j), raise --memory-limit, or override with --no-checks",
-                            byte_text(e.peak_memory_bytes), thread_text(e.threads), e.width_px, e.height_px, byte_text(*memory_limit)));
+                            byte_text(e.peak_memory_bytes), thread_text(e.threads), e.width_px, e.height_px,
+                            e.stack_memory_bytes > 0 ? fmt::format(", {} of it for the stack outputs", byte_text(e.stack_memory_bytes))
+                                                     : std::string(),
+                            byte_text(*memory_limit)));
 }
 
 std::string byte_text(std::uint64_t bytes) {

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <optional>
 #include <string_view>
@@ -14,8 +12,11 @@
 
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
+#include "trivox/output/bmp_image.h"
+#include "trivox/output/gcvf_package.h"
 #include "trivox/output/png_io.h"
 #include "trivox/output/tiff_stack.h"
+#include "trivox/output/vdb_stack.h"
 
 namespace trivox {
 
@@ -76,25 +77,84 @@ std::string file_problem(const std::filesystem::path& dir, const ManifestFile& f
   return {};
 }
 
-// A BMP's headers against its size: the "BM" tag, the file size field, and a pixel array
-// of stride x height bytes after the pixel offset.
-std::string bmp_problem(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto u32 = [&](std::size_t at) {
-    std::uint32_t v = 0;
-    for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(bytes[at + static_cast<std::size_t>(i)]);
-    return v;
+// The bitmap size the manifest records ("WxH"), or {0, 0}.
+std::pair<int, int> bitmap_size(const JobManifest& m) {
+  for (const auto& [key, value] : m.settings)
+    if (key == "bitmap_px") {
+      const std::size_t x = value.find('x');
+      if (x == std::string::npos) break;
+      const auto w = small_number(std::string_view(value).substr(0, x)), h = small_number(std::string_view(value).substr(x + 1));
+      if (w && h) return {*w, *h};
+    }
+  return {0, 0};
+}
+
+// The number of materials in the manifest's "materials" setting ("NAME=R,G,B,A ..."): the
+// words that end in four numbers after a '='.
+int material_count(const JobManifest& m) {
+  int count = 0;
+  for (const auto& [key, value] : m.settings) {
+    if (key != "materials") continue;
+    std::size_t at = 0;
+    while (at < value.size()) {
+      std::size_t end = value.find(' ', at);
+      if (end == std::string::npos) end = value.size();
+      const std::string_view word = std::string_view(value).substr(at, end - at);
+      const std::size_t eq = word.rfind('=');
+      if (eq != std::string_view::npos && std::count(word.begin() + static_cast<std::ptrdiff_t>(eq), word.end(), ',') == 3) ++count;
+      at = end + 1;
+    }
+  }
+  return count;
+}
+
+// Decodes a file whose size and hash match the manifest, by kind: every PNG, the 1-bit BMPs
+// of the legacy output, every page of a TIFF stack, every grid of an OpenVDB file and every
+// entry of a GrabCAD package (its PNGs decoded). Returns the problem, or "".
+std::string decode_problem(const std::filesystem::path& path, const JobManifest& m) {
+  const std::string ext = path.extension().string();
+  const std::pair<int, int> size = bitmap_size(m);
+  const int width = size.first, height = size.second;  // (clang 14 cannot capture structured bindings)
+  const auto size_problem = [&](const std::string& what, int w, int h) {
+    if (width == 0 || (w == width && h == height)) return std::string();
+    return fmt::format("{}: {} is {} x {} px, the job's layers are {} x {}", path.string(), what, w, h, width, height);
   };
-  const auto u16 = [&](std::size_t at) {
-    return static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[at]) | (static_cast<unsigned char>(bytes[at + 1]) << 8));
-  };
-  if (bytes.size() < 54 || bytes[0] != 'B' || bytes[1] != 'M') return fmt::format("{}: not a BMP file", path.string());
-  if (u32(2) != bytes.size()) return fmt::format("{}: BMP header says {} bytes, the file has {}", path.string(), u32(2), bytes.size());
-  const std::uint64_t width = u32(18), height = u32(22), bpp = u16(28);
-  const std::uint64_t stride = (width * bpp + 31) / 32 * 4;
-  if (bpp == 0 || u32(10) + stride * height != bytes.size())
-    return fmt::format("{}: BMP pixel data does not fill the file ({} x {} px, {} bits)", path.string(), width, height, bpp);
+  try {
+    if (ext == ".png") {
+      (void)read_png_rgba(path);
+    } else if (ext == ".bmp") {
+      const Bmp1Image im = read_bmp1(path);
+      return size_problem("the bitmap", im.width_px, im.height_px);
+    } else if (ext == ".tif") {
+      std::string problem;
+      const int pages = read_tiff_stack(path, [&](int page, const LabelImage& labels) {
+        if (problem.empty()) problem = size_problem(fmt::format("page {}", page + 1), labels.width_px(), labels.height_px());
+      });
+      if (!problem.empty()) return problem;
+      if (pages != m.total_layers) return fmt::format("{}: {} pages, the job has {} layers", path.string(), pages, m.total_layers);
+    } else if (ext == ".vdb") {
+      const std::vector<VdbGridInfo> grids = read_vdb_grid_info(path);
+      const int materials = material_count(m);
+      if (static_cast<int>(grids.size()) != materials)
+        return fmt::format("{}: {} grids, the job has {} materials", path.string(), grids.size(), materials);
+      for (const VdbGridInfo& g : grids)
+        if (g.active_voxels > 0 && (g.min[2] < 0 || g.max[2] >= m.total_layers || g.min[0] < 0 || g.min[1] < 0 ||
+                                    (width > 0 && (g.max[0] >= width || g.max[1] >= height))))
+          return fmt::format("{}: grid '{}' has voxels outside the job's {} layers of {} x {} px", path.string(), g.name,
+                             m.total_layers, width, height);
+    } else if (ext == ".gcvf") {
+      std::string problem;
+      const GcvfPackageSummary package = read_gcvf_package(path, [&](const std::string& name, const RgbaImage& im) {
+        if (problem.empty()) problem = size_problem(fmt::format("entry '{}'", name), im.width_px, im.height_px);
+      });
+      if (!problem.empty()) return problem;
+      if (package.images != m.total_layers)
+        return fmt::format("{}: {} layer images, the job has {} layers", path.string(), package.images, m.total_layers);
+      if (package.config_xml.empty()) return fmt::format("{}: no ConfigFile.xml", path.string());
+    }
+  } catch (const Error& e) {
+    return e.what();
+  }
   return {};
 }
 
@@ -185,24 +245,7 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
     if (f.layer > 0) has_files[static_cast<std::size_t>(f.layer - 1)] = 1;
     ++report.files_checked;
     std::string problem = file_problem(dir, f);
-    const std::string ext = std::filesystem::path(f.name).extension().string();
-    if (problem.empty() && ext == ".png") {
-      try {
-        (void)read_png_rgba(dir / f.name);
-      } catch (const Error& e) {
-        problem = e.what();
-      }
-    }
-    if (problem.empty() && ext == ".bmp") problem = bmp_problem(dir / f.name);
-    if (problem.empty() && ext == ".tif") {
-      try {
-        const int pages = read_tiff_stack(dir / f.name, [](int, const LabelImage&) {});
-        if (pages != m.total_layers)
-          problem = fmt::format("{}: {} pages, the job has {} layers", (dir / f.name).string(), pages, m.total_layers);
-      } catch (const Error& e) {
-        problem = e.what();
-      }
-    }
+    if (problem.empty()) problem = decode_problem(dir / f.name, m);
     if (!problem.empty()) report.problems.push_back(std::move(problem));
   }
   if (m.status == JobStatus::kComplete)

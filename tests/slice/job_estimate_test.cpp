@@ -1,14 +1,19 @@
 // Job estimates against the job itself, and the up-front refusals.
 #include "trivox/slice/job_estimate.h"
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <limits>
+#include <string>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/output/vdb_stack.h"
+#include "trivox/slice/job.h"
 
 namespace trivox {
 namespace {
@@ -37,17 +42,18 @@ TEST(JobEstimate, SamplingEveryLayerPredictsTheOutputSizeOfTheJob) {
   EXPECT_EQ(e.pixels, static_cast<std::int64_t>(e.width_px) * e.height_px * 30);
   EXPECT_GT(e.peak_memory_bytes, static_cast<std::uint64_t>(e.width_px) * static_cast<std::uint64_t>(e.height_px));
 
+  EXPECT_EQ(e.whole_job_files, 1);  // materials.csv
   run_slice_job(slicer, p);
-  std::uint64_t layer_bytes = 0, manifest_bytes = 0;
+  std::uint64_t file_bytes = 0, manifest_bytes = 0;
   for (const auto& entry : fs::recursive_directory_iterator(p.output_dir)) {
     if (!entry.is_regular_file()) continue;
-    if (entry.path().extension() == ".png") layer_bytes += entry.file_size();
+    if (entry.path().extension() == ".png" || entry.path().extension() == ".csv") file_bytes += entry.file_size();
     if (entry.path().filename() == "manifest.json") manifest_bytes = entry.file_size();
   }
   // Every layer was sampled, so only the integer mean and the manifest allowance differ.
-  const std::uint64_t allowance = 140u * 90u;
-  EXPECT_LE(e.output_bytes, layer_bytes + allowance);
-  EXPECT_GE(e.output_bytes + static_cast<std::uint64_t>(model_layers), layer_bytes + allowance);
+  const std::uint64_t allowance = 140u * 91u;
+  EXPECT_LE(e.output_bytes, file_bytes + allowance);
+  EXPECT_GE(e.output_bytes + static_cast<std::uint64_t>(model_layers), file_bytes + allowance);
   EXPECT_LE(manifest_bytes, allowance + 2000u);  // the allowance covers the real manifest
   fs::remove_all(p.output_dir);
 }
@@ -89,6 +95,112 @@ TEST(JobEstimate, RefusesWhatTheDiskOrMemoryCannotTake) {
   }
   ASSERT_TRUE(free_disk_bytes(fs::temp_directory_path()).has_value());
   EXPECT_GT(*free_disk_bytes(fs::temp_directory_path()), 0u);
+}
+
+// The stack outputs write nothing per layer: their files, their spools and the memory they
+// hold must still be counted. With every model layer sampled, the TIFF and the package are
+// predicted to within their headers, the OpenVDB file and grids (measured on grids built
+// from the samples, slab by slab) to within a factor of two.
+TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
+  const Scene scene = estimate_scene();
+  const Slicer slicer(scene, {});
+  const int model_layers = slicer.layout().num_layers;
+  JobParams plain;
+  plain.formats = {"voxelprint"};
+  plain.threads = 2;
+  const JobEstimate base = estimate_job(slicer, plain, EstimateParams{model_layers});
+  EXPECT_EQ(base.whole_job_files, 1);  // materials.csv
+  EXPECT_EQ(base.scratch_bytes, 0u);
+  EXPECT_EQ(base.stack_memory_bytes, 0u);
+  for (const std::string format : {"tiff", "vdb", "gcvf"}) {
+    SCOPED_TRACE(format);
+    JobParams p;
+    p.output_dir = fs::temp_directory_path() / fmt::format("trivox-estimate-stack-{}-{}", ::getpid(), format);
+    fs::remove_all(p.output_dir);
+    p.formats = {format};
+    p.threads = 2;
+    const JobEstimate e = estimate_job(slicer, p, EstimateParams{model_layers});
+    EXPECT_EQ(e.files_per_layer, 0);
+    EXPECT_EQ(e.whole_job_files, 2);  // materials.csv and the stack
+    EXPECT_GT(e.scratch_bytes, 0u);
+    EXPECT_GT(e.stack_memory_bytes, 0u);
+    EXPECT_GE(e.peak_memory_bytes, e.stack_memory_bytes);
+
+    run_slice_job(slicer, p);
+    const std::string stack = format == "tiff" ? "tiff/stack.tif" : format == "vdb" ? "vdb/stack.vdb" : "gcvf/stack.gcvf";
+    const std::uint64_t stack_bytes = fs::file_size(p.output_dir / stack);
+    const std::uint64_t rest = fs::file_size(p.output_dir / "materials.csv") + fs::file_size(p.output_dir / "manifest.json");
+    const std::uint64_t allowance = 140u * 2u;  // the manifest's, for two files
+    const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance;
+    EXPECT_LE(rest, fs::file_size(p.output_dir / "materials.csv") + allowance + 2000u);
+    if (format == "vdb") {
+      EXPECT_GE(e.output_bytes, real / 2);
+      EXPECT_LE(e.output_bytes, real * 2);
+      // The grids as OpenVDB holds them after reading the file back.
+      std::uint64_t grid_memory = 0;
+      for (const VdbGridInfo& g : read_vdb_grid_info(p.output_dir / stack)) grid_memory += g.memory_bytes;
+      EXPECT_GE(e.stack_memory_bytes, grid_memory / 2) << grid_memory;
+      EXPECT_LE(e.stack_memory_bytes, grid_memory * 2 + 1000000u) << grid_memory;
+    } else {
+      // Every layer was sampled: the integer mean and the headers' allowances differ.
+      EXPECT_GE(e.output_bytes + static_cast<std::uint64_t>(model_layers), real) << "real " << real;
+      EXPECT_LE(e.output_bytes, real + real / 50 + 2000u) << "real " << real;
+      // The spool held every page or image the file holds.
+      EXPECT_LE(e.scratch_bytes, stack_bytes);
+      EXPECT_GE(e.scratch_bytes + 2000u * 30u, stack_bytes);
+    }
+    fs::remove_all(p.output_dir);
+  }
+}
+
+// The up-front checks take the stack outputs into account: a disk with one byte less than
+// the layer files, the stack file and its spool is refused; a memory limit that a plain job
+// just meets refuses the same job with OpenVDB grids.
+TEST(JobEstimate, RefusesStackOutputsTheDiskOrMemoryCannotTake) {
+  const Scene scene = estimate_scene();
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fs::temp_directory_path() / "trivox-estimate-refusal";
+  p.threads = 1;
+  p.formats = {"voxelprint"};
+  const JobEstimate q = estimate_job(slicer, p, EstimateParams{2});  // first: the process only grows
+  JobParams plain = p;
+  p.formats = {"voxelprint", "vdb"};
+  const JobEstimate e = estimate_job(slicer, p, EstimateParams{2});
+  const std::uint64_t disk = e.output_bytes + e.scratch_bytes;
+  EXPECT_NO_THROW(check_job_fits(e, p, std::nullopt, disk));
+  try {
+    check_job_fits(e, p, std::nullopt, disk - 1);
+    FAIL() << "a job one byte larger than the disk was accepted";
+  } catch (const Error& err) {
+    EXPECT_NE(std::string(err.what()).find("trivox-estimate-refusal"), std::string::npos) << err.what();
+    EXPECT_NE(std::string(err.what()).find("spool files"), std::string::npos) << err.what();
+  }
+  // Without its spool the output alone would fit: the spool is what the disk lacks.
+  EXPECT_GT(e.scratch_bytes, 1u);
+  // The plain job's peak as the limit: it just fits; the grids put the other over it.
+  const std::uint64_t limit = q.peak_memory_bytes;
+  EXPECT_NO_THROW(check_job_fits(q, plain, limit, std::nullopt));
+  try {
+    check_job_fits(e, p, limit, std::nullopt);
+    FAIL() << "the OpenVDB grids were not counted against the memory limit";
+  } catch (const Error& err) {
+    EXPECT_NE(std::string(err.what()).find("for the stack outputs"), std::string::npos) << err.what();
+  }
+}
+
+// The disk check measures the file system a new folder will be made on, also for a relative
+// path none of whose folders exists yet (then the current folder's).
+TEST(JobEstimate, FreeDiskOfAFolderThatDoesNotExistYet) {
+  const auto here = free_disk_bytes(".");
+  ASSERT_TRUE(here.has_value());
+  for (const char* dir : {"trivox-no-such-folder/out", "trivox-no-such-folder", ""}) {
+    const auto free = free_disk_bytes(dir);
+    ASSERT_TRUE(free.has_value()) << dir;
+    // The same file system; other work may write to it between the two calls.
+    EXPECT_NEAR(static_cast<double>(*free), static_cast<double>(*here), 1e9) << dir;
+  }
+  EXPECT_TRUE(free_disk_bytes("/trivox-no-such-folder/out").has_value());
 }
 
 TEST(JobEstimate, ByteText) {

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -30,6 +31,23 @@ struct OutputContext {
   PngWriteParams png;
 };
 
+// For the job estimate (job_estimate.h): which of the layers a stack output was fed stand
+// for which layers of the job.
+struct StackSampling {
+  std::vector<int> model_samples;  // job layers fed that stand for the model layers
+  int padding_sample = -1;         // a job layer fed that stands for the padding layers; -1: none
+  int model_layers = 0;            // layers of the job that hold the model
+  int padded_layers = 0;           // empty layers after them
+};
+
+// What a stack output adds to a job beyond the files write_layer returns.
+struct StackCost {
+  int files = 0;                    // files finish() writes
+  std::uint64_t file_bytes = 0;     // their size
+  std::uint64_t scratch_bytes = 0;  // spool files on disk beside them until the job ends
+  std::uint64_t memory_bytes = 0;   // what the writer holds at its largest (layers collected, grids built)
+};
+
 // Writes one file set per layer. write_layer is called from several threads at once, each
 // with a different index; implementations keep no mutable shared state.
 class LayerWriter {
@@ -49,7 +67,17 @@ class LayerWriter {
   // the whole job (a text manifest, previews), which must depend only on the settings and,
   // for stack outputs, on the layers.
   virtual std::vector<std::string> finish() const { return {}; }
+  // The cost of finish() and of what the writer keeps for it, scaled from the layers fed so
+  // far to the whole job as `sampling` describes; nothing for a per-layer output.
+  virtual StackCost stack_cost(const StackSampling& sampling) const {
+    (void)sampling;
+    return {};
+  }
 };
+
+// The sum over the job of a per-layer figure known for the sampled layers: the mean of the
+// model samples times the model layers, plus the padding sample times the padding layers.
+std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<std::uint64_t(int)>& per_layer);
 
 // "voxelprint": one 32-bit RGBA PNG per layer (colour type 6), every material in its exact
 //               colour, everything else the background colour; for GrabCAD Voxel Print.

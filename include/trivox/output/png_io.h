@@ -91,5 +91,8 @@ void write_png_gray1(const std::filesystem::path& path, int width_px, int height
 // conversion is applied. Throws IoError naming the path when the file cannot be opened or
 // is not a valid PNG.
 RgbaImage read_png_rgba(const std::filesystem::path& path);
+// The same for the bytes of a PNG in memory (an entry of a package); `what` names them in
+// the IoError.
+RgbaImage decode_png_rgba(std::string_view bytes, const std::string& what);
 
 }  // namespace trivox

@@ -25,9 +25,12 @@ struct JobEstimate {
   int width_px = 0, height_px = 0;
   std::int64_t pixels = 0;          // voxels of every job layer of this shard
   int files_per_layer = 0;          // from the formats
+  int whole_job_files = 0;          // files of the whole job: materials.csv and the stack outputs
   int sampled_layers = 0;           // 0 when output size and time are not measured
-  std::uint64_t output_bytes = 0;   // layer files + manifest; from the samples
-  std::uint64_t peak_memory_bytes = 0;  // process now + per worker buffers x threads
+  std::uint64_t output_bytes = 0;   // layer files + whole-job files + manifest; from the samples
+  std::uint64_t scratch_bytes = 0;  // spool files of the stack outputs, on disk until the job ends
+  std::uint64_t peak_memory_bytes = 0;  // process now + per worker buffers x threads + stack outputs
+  std::uint64_t stack_memory_bytes = 0;  // the stack outputs' part of the peak (e.g. OpenVDB grids)
   double seconds = 0;               // sample time per layer x layers / threads
   int threads = 0;
 };
@@ -43,9 +46,13 @@ std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir);
 // Physical memory of the machine, lowered to RLIMIT_AS when that is set; nullopt when unknown.
 std::optional<std::uint64_t> memory_limit_bytes();
 
-// Throws Error naming the folder, the estimate and the limit when the estimate exceeds the
-// free space of `params.output_dir` or `memory_limit` (bytes; nullopt = no memory check).
+// Throws Error naming the folder, the estimate and the limit when the output and the spool
+// files exceed the free space of `params.output_dir` or the peak memory exceeds
+// `memory_limit` (bytes; nullopt = no memory check).
 void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::optional<std::uint64_t> memory_limit);
+// The same against `free_disk` bytes (nullopt = no disk check) instead of a measurement.
+void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::optional<std::uint64_t> memory_limit,
+                    std::optional<std::uint64_t> free_disk);
 
 // "1.23 GB", "456 MB", "12.3 kB", "17 B" (decimal units).
 std::string byte_text(std::uint64_t bytes);

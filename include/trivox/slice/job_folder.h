@@ -21,13 +21,17 @@ JobManifest merge_shards(const std::filesystem::path& dir);
 struct VerifyReport {
   JobManifest manifest;
   int files_checked = 0;
-  // One line per problem, naming the file: missing, wrong size, wrong SHA-256, not a
-  // decodable image, a layer without files, or a job that is not complete.
+  // One line per problem, naming the file: missing, wrong size, wrong SHA-256, not
+  // decodable, a layer without files, or a job that is not complete.
   std::vector<std::string> problems;
   bool ok() const noexcept { return problems.empty(); }
 };
 
-// Re-hashes and decodes (PNG files) every file manifest.json lists. Throws IoError when the
+// Re-hashes every file manifest.json lists and decodes it by kind: PNG images, the legacy
+// 1-bit BMPs, every page of a TIFF stack, every grid of an OpenVDB file, every entry of a
+// GrabCAD package (CRC-32 checked, PNGs decoded). Legacy bitmaps, TIFF pages and package
+// images must have the job's bitmap size; a TIFF or a package holds one page or image per
+// job layer, an OpenVDB file one grid per material with no voxel outside the job's layers. Throws IoError when the
 // folder has no readable manifest.json (and says so when only shard manifests are there),
 // InputError when the manifest is malformed.
 VerifyReport verify_output(const std::filesystem::path& dir);
