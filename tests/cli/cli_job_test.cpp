@@ -12,6 +12,7 @@
 #include "cli/cli_run.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
+#include "slice/job_fixtures.h"
 
 namespace trivox::test {
 namespace {
@@ -21,17 +22,6 @@ namespace fs = std::filesystem;
 std::string scene() { return shell_quote(examples_dir() / "scenes" / "quick_start.json"); }
 // 12 model layers padded to 30: about a second of work.
 std::string slice_args(const fs::path& out) { return "slice " + scene() + " --layers 1:12 -q -j 2 -o " + shell_quote(out); }
-
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name.rfind("stats", 0) == 0) continue;
-    out[name] = read_text(e.path());
-  }
-  return out;
-}
 
 // No temporaries, and every PNG under a final name decodes.
 void expect_no_partial_files(const fs::path& dir) {

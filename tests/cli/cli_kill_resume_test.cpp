@@ -28,6 +28,7 @@
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 #include "trivox/slice/manifest.h"
+#include "slice/job_fixtures.h"
 
 extern char** environ;
 
@@ -79,17 +80,6 @@ int layer_files(const fs::path& out) {
     if (name.rfind("slice_", 0) == 0 && it->path().extension() == ".png" && !is_atomic_temporary_name(name)) ++n;
   }
   return n;
-}
-
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name.rfind("stats", 0) == 0) continue;
-    out[name] = read_text(e.path());
-  }
-  return out;
 }
 
 TEST(CliKill, TwentyKillsAtRandomMomentsEachResumedEndByteIdentical) {

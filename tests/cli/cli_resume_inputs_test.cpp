@@ -10,22 +10,12 @@
 #include "cli/cli_run.h"
 #include "trivox/io/sha256.h"
 #include "trivox/slice/manifest.h"
+#include "slice/job_fixtures.h"
 
 namespace trivox::test {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name.rfind("stats", 0) == 0) continue;
-    out[name] = read_text(e.path());
-  }
-  return out;
-}
 
 TEST(CliResume, AModelFileIsHashedInTheManifestAndAnEditRefusesResume) {
   ScratchDir dir;

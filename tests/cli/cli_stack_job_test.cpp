@@ -11,6 +11,7 @@
 
 #include "cli/cli_run.h"
 #include "trivox/output/atomic_file.h"
+#include "slice/job_fixtures.h"
 
 namespace trivox::test {
 namespace {
@@ -20,17 +21,6 @@ namespace fs = std::filesystem;
 std::string scene() { return shell_quote(examples_dir() / "scenes" / "quick_start.json"); }
 // 12 model layers padded to 30.
 std::string job_args(const std::string& formats) { return scene() + " --layers 1:12 -j 2 --format " + formats; }
-
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name.rfind("stats", 0) == 0) continue;
-    out[name] = read_text(e.path());
-  }
-  return out;
-}
 
 // No temporary and no spool file; the stack, if present, is whole (it is not: it failed).
 void expect_no_partial_stack(const fs::path& out, const std::string& stack) {

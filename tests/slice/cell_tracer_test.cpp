@@ -12,10 +12,8 @@
 namespace trivox {
 namespace {
 
-TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
-  const Volume v = test::twisted_bent_box(8, 6, 5);
-  const GlobalSolver solver(v);
-  // A 600 x 300 dpi grid over the column's bounding rectangle.
+// A 600 x 300 dpi grid over the volume's bounding rectangle.
+SliceLayout layout_over(const Volume& v) {
   SliceLayout L;
   L.pitch_x_mm = 25.4 / 600;
   L.pitch_y_mm = 25.4 / 300;
@@ -23,6 +21,13 @@ TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
   L.y_top_mm = v.bounds().hi.y + 2 * L.pitch_y_mm;
   L.width_px = static_cast<int>((v.bounds().hi.x - L.x0_mm) / L.pitch_x_mm) + 3;
   L.height_px = static_cast<int>((L.y_top_mm - v.bounds().lo.y) / L.pitch_y_mm) + 3;
+  return L;
+}
+
+TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
+  const Volume v = test::twisted_bent_box(8, 6, 5);
+  const GlobalSolver solver(v);
+  const SliceLayout L = layout_over(v);
   const double z = 0.5 * (v.bounds().lo.z + v.bounds().hi.z);
 
   for (TracingStrategy strategy : {TracingStrategy::kPreviousPoint, TracingStrategy::kPreviousLine, TracingStrategy::kFull,
@@ -69,13 +74,7 @@ TEST(CellTracer, EveryStrategyAgreesWithTheGlobalSolverOnWholeRows) {
 TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
   const Volume v = test::twisted_bent_box(8, 6, 5);
   const GlobalSolver solver(v);
-  SliceLayout L;
-  L.pitch_x_mm = 25.4 / 600;
-  L.pitch_y_mm = 25.4 / 300;
-  L.x0_mm = v.bounds().lo.x - 2 * L.pitch_x_mm;
-  L.y_top_mm = v.bounds().hi.y + 2 * L.pitch_y_mm;
-  L.width_px = static_cast<int>((v.bounds().hi.x - L.x0_mm) / L.pitch_x_mm) + 3;
-  L.height_px = static_cast<int>((L.y_top_mm - v.bounds().lo.y) / L.pitch_y_mm) + 3;
+  const SliceLayout L = layout_over(v);
   const double z = 0.4 * v.bounds().lo.z + 0.6 * v.bounds().hi.z;
   detail::RowSpans spans(static_cast<std::size_t>(L.height_px));
   for (int row = 0; row < L.height_px; ++row) {

@@ -24,23 +24,14 @@
 #include "support/test_support.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
+#include "slice/job_fixtures.h"
 
 namespace trivox {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name == "stats.json") continue;  // timings
-    std::ifstream in(e.path(), std::ios::binary);
-    out[name] = {std::istreambuf_iterator<char>(in), {}};
-  }
-  return out;
-}
+using test::folder_bytes;
 
 // One test per example, so that CTest runs them side by side and each has its own time limit.
 const std::vector<std::string>& example_scenes() {

@@ -1,11 +1,12 @@
-// Helpers for the tests of whole slice jobs: a file's bytes, and a job stopped part way (as
-// Ctrl-C stops it) and then resumed.
+// Helpers for the tests of whole slice jobs: a file's bytes, an output folder's bytes, and a
+// job stopped part way (as Ctrl-C stops it) and then resumed.
 #pragma once
 
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 
 #include "trivox/slice/job.h"
@@ -16,6 +17,19 @@ namespace trivox::test {
 inline std::string read_bytes(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
+}
+
+// Every regular file under `dir` (relative, '/'-separated) with its bytes; the stats files
+// are left out (they hold timings).
+inline std::map<std::string, std::string> folder_bytes(const std::filesystem::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    const std::string name = e.path().lexically_relative(dir).generic_string();
+    if (name.rfind("stats", 0) == 0) continue;
+    out[name] = read_bytes(e.path());
+  }
+  return out;
 }
 
 // Raises a job's stop flag once `after` layers are complete.

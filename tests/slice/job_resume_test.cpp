@@ -37,18 +37,7 @@ fs::path fresh_dir(const std::string& name) {
   return dir;
 }
 
-// Every regular file under `dir` (relative, '/'-separated) with its bytes, stats files left
-// out (they hold timings).
-std::map<std::string, std::string> folder_bytes(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file()) continue;
-    const std::string name = e.path().lexically_relative(dir).generic_string();
-    if (name.rfind("stats", 0) == 0) continue;
-    out[name] = read_bytes(e.path());
-  }
-  return out;
-}
+using test::folder_bytes;
 
 // Two materials, 15 model layers padded to 30 job layers.
 Scene small_scene() {
