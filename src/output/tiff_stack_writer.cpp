@@ -8,7 +8,6 @@
 // memory at a time, and removes the spool. The compressed bytes depend only on the labels, so
 // the file is the same for any thread count and schedule.
 #include <tiffio.h>
-#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
@@ -22,6 +21,7 @@
 
 #include "output/stack_writers.h"
 #include "trivox/error.h"
+#include "trivox/output/atomic_file.h"
 #include "trivox/output/tiff_stack.h"
 
 namespace trivox {
@@ -185,16 +185,10 @@ class TiffStackWriter final : public LayerWriter {
       throw IoError(fmt::format("{}: cannot write the page spool: {}", spool_path_.string(), errno_reason(errno)));
     const std::string file = "tiff/stack.tif";
     const std::filesystem::path target = c_.dir / file;
-    // libtiff writes the file itself; give it a temporary name and rename it when whole.
-    const std::filesystem::path temp = target.string() + fmt::format(".tmp-{}-0", static_cast<long>(::getpid()));
-    struct RemoveTemp {
-      std::filesystem::path p;
-      bool keep = false;
-      ~RemoveTemp() {
-        std::error_code ec;
-        if (!keep) std::filesystem::remove(p, ec);
-      }
-    } guard{temp};
+    // libtiff writes the file itself: the atomic file gives it the temporary name, removes it
+    // on failure and, once whole, syncs it and renames it over the target.
+    AtomicFile atomic(target);
+    const std::filesystem::path& temp = atomic.temporary();
     // Classic TIFF addresses 4 GiB; larger stacks become BigTIFF.
     const bool big = spool_end_ > (std::uint64_t{3} << 30);
     TiffFile tif(temp, big ? "w8" : "w");
@@ -242,16 +236,7 @@ class TiffStackWriter final : public LayerWriter {
       throw IoError(fmt::format("{}: cannot finish the TIFF{}", target.string(),
                                 error_number != 0 ? ": " + errno_reason(error_number) : std::string()));
     }
-    // Make the bytes durable, then publish them under the final name.
-    std::FILE* f = std::fopen(temp.c_str(), "rb+");
-    if (f == nullptr || ::fsync(::fileno(f)) != 0) {
-      if (f != nullptr) std::fclose(f);
-      throw IoError(fmt::format("{}: cannot sync {}", target.string(), temp.string()));
-    }
-    std::fclose(f);
-    if (std::rename(temp.c_str(), target.c_str()) != 0)
-      throw IoError(fmt::format("{}: cannot rename {}", target.string(), temp.string()));
-    guard.keep = true;
+    atomic.commit();
     return {file};
   }
 

@@ -44,6 +44,7 @@
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
+#include "trivox/output/atomic_file.h"
 #include "trivox/output/vdb_stack.h"
 
 namespace trivox {
@@ -283,15 +284,10 @@ class VdbWriter final : public LayerWriter {
     const std::string file = "vdb/stack.vdb";
     const std::filesystem::path target = c_.dir / file;
     const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(c_.total_layers, [](int k) { return k; }, target);
-    const std::filesystem::path temp = target.string() + fmt::format(".tmp-{}-0", static_cast<long>(::getpid()));
-    struct RemoveTemp {
-      std::filesystem::path p;
-      bool keep = false;
-      ~RemoveTemp() {
-        std::error_code ec;
-        if (!keep) std::filesystem::remove(p, ec);
-      }
-    } guard{temp};
+    // OpenVDB writes to a stream of its own: the atomic file gives it the temporary name,
+    // removes it on failure and, once whole, syncs it and renames it over the target.
+    AtomicFile atomic(target);
+    const std::filesystem::path& temp = atomic.temporary();
     {
       std::ofstream out(temp, std::ios::binary | std::ios::trunc);
       if (!out) throw IoError(fmt::format("{}: cannot create {}: {}", target.string(), temp.string(), errno_reason(errno)));
@@ -308,9 +304,7 @@ class VdbWriter final : public LayerWriter {
       if (!out) throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), errno_reason(errno)));
     }
     make_uuid_deterministic(temp, target);
-    if (std::rename(temp.c_str(), target.c_str()) != 0)
-      throw IoError(fmt::format("{}: cannot rename {}: {}", target.string(), temp.string(), errno_reason(errno)));
-    guard.keep = true;
+    atomic.commit();
     return {file};
   }
 
