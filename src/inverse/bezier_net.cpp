@@ -56,48 +56,44 @@ double BezierNet::max_along(Vec3 direction) const {
 
 std::array<BezierNet, 2> BezierNet::halve(int d) const {
   std::array<BezierNet, 2> out;
-  for (BezierNet& half : out) {
-    half.order = order;
-    half.box = box;
-    half.polynomial = polynomial;
-    half.h.resize(h.size());
+  halve_into(d, out[0], out[1]);
+  return out;
+}
+
+void BezierNet::halve_into(int d, BezierNet& left, BezierNet& right) const {
+  for (BezierNet* half : {&left, &right}) {
+    half->order = order;
+    half->box = box;
+    half->polynomial = polynomial;
+    half->h.resize(h.size());  // no allocation when a reused net has the room
   }
   const double mid = 0.5 * (box.lo[d] + box.hi[d]);
-  out[0].box.hi[d] = mid;
-  out[1].box.lo[d] = mid;
-  const int n = order[static_cast<std::size_t>(d)];
-  // One line of control points along d at a time (orders are at most kMaxOrder).
-  std::array<H, kMaxOrder> line;
+  left.box.hi[d] = mid;
+  right.box.lo[d] = mid;
+  const auto dd = static_cast<std::size_t>(d);
+  const int n = order[dd];
+  const std::size_t stride[3] = {1, static_cast<std::size_t>(order[0]),
+                                 static_cast<std::size_t>(order[0]) * static_cast<std::size_t>(order[1])};
   const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+  const std::size_t step = stride[dd];
+  // One line of control points along d at a time (orders are at most kMaxOrder), addressed
+  // by its first point's index and the stride along d.
+  std::array<H, kMaxOrder> line;
   for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
     for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
-      std::array<int, 3> ijk{};
-      ijk[static_cast<std::size_t>(a)] = t;
-      ijk[static_cast<std::size_t>(b)] = s;
-      auto cell = [&](int i) -> std::array<int, 3> {
-        std::array<int, 3> c = ijk;
-        c[static_cast<std::size_t>(d)] = i;
-        return c;
-      };
-      for (int i = 0; i < n; ++i) {
-        const auto c = cell(i);
-        line[static_cast<std::size_t>(i)] = at(c[0], c[1], c[2]);
-      }
+      const std::size_t first = static_cast<std::size_t>(t) * stride[a] + static_cast<std::size_t>(s) * stride[b];
+      for (int i = 0; i < n; ++i) line[static_cast<std::size_t>(i)] = h[first + static_cast<std::size_t>(i) * step];
       // de Casteljau at 1/2: after r averaging steps, line[0] is the left half's point r and
       // line[n-1-r] the right half's point n-1-r.
       for (int r = 0; r < n; ++r) {
-        const auto left = cell(r);
-        out[0].at(left[0], left[1], left[2]) = line[0];
-        const auto right = cell(n - 1 - r);
-        out[1].at(right[0], right[1], right[2]) = line[static_cast<std::size_t>(n - 1 - r)];
+        left.h[first + static_cast<std::size_t>(r) * step] = line[0];
+        right.h[first + static_cast<std::size_t>(n - 1 - r) * step] = line[static_cast<std::size_t>(n - 1 - r)];
         for (int i = 0; i < n - 1 - r; ++i)
-          for (int c = 0; c < 4; ++c)
-            line[static_cast<std::size_t>(i)][static_cast<std::size_t>(c)] =
-                0.5 * (line[static_cast<std::size_t>(i)][static_cast<std::size_t>(c)] +
-                       line[static_cast<std::size_t>(i + 1)][static_cast<std::size_t>(c)]);
+          for (std::size_t c = 0; c < 4; ++c)
+            line[static_cast<std::size_t>(i)][c] =
+                0.5 * (line[static_cast<std::size_t>(i)][c] + line[static_cast<std::size_t>(i + 1)][c]);
       }
     }
-  return out;
 }
 
 std::array<double, 3> BezierNet::extents() const {
@@ -144,21 +140,21 @@ bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi, const Box3& xb) const {
     } else {
       const double scale = (n - 1) / (box.hi[d] - box.lo[d]);
       const std::size_t step = stride[d];
-      for (int k = 0; k < order[2]; ++k)
-        for (int j = 0; j < order[1]; ++j)
-          for (int i = 0; i < order[0]; ++i) {
-            const int along = d == 0 ? i : (d == 1 ? j : k);
-            if (along + 1 == n) continue;  // the last point of its line along d
-            const std::size_t q = static_cast<std::size_t>(i) + stride[1] * static_cast<std::size_t>(j) +
-                                  stride[2] * static_cast<std::size_t>(k);
-            const H& p0 = h[q];
-            const H& p1 = h[q + step];
-            for (int c = 0; c < 4; ++c) {
-              const double v = scale * (p1[static_cast<std::size_t>(c)] - p0[static_cast<std::size_t>(c)]);
+      const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
+      // Line by line along d, each line's consecutive differences.
+      for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
+        for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
+          const std::size_t first = static_cast<std::size_t>(t) * stride[a] + static_cast<std::size_t>(s) * stride[b];
+          for (int i = 0; i + 1 < n; ++i) {
+            const H& p0 = h[first + static_cast<std::size_t>(i) * step];
+            const H& p1 = h[first + static_cast<std::size_t>(i + 1) * step];
+            for (std::size_t c = 0; c < 4; ++c) {
+              const double v = scale * (p1[c] - p0[c]);
               dlo[c] = v < dlo[c] ? v : dlo[c];
               dhi[c] = v > dhi[c] ? v : dhi[c];
             }
           }
+        }
     }
     for (int r = 0; r < 3; ++r) {
       const Interval xr{xb.lo[r], xb.hi[r]};

@@ -40,6 +40,8 @@ struct BezierNet {
 
   // Splits at the middle of direction d (de Casteljau at 1/2, exact in homogeneous form).
   std::array<BezierNet, 2> halve(int d) const;
+  // The same into two existing nets (not this one), reusing their storage.
+  void halve_into(int d, BezierNet& left, BezierNet& right) const;
 
   // Euclidean length of the net along each direction: the longest control polygon of a
   // line along it (at least the chord, and long also for closed or bent lines), which says

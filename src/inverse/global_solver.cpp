@@ -96,7 +96,31 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
   }
   const double plane = dot(normal, x) - box_tol;
 
-  std::vector<Preimage> found;
+  // Per-thread scratch, so that a solve allocates nothing once its thread has solved a
+  // few: a pool of nets (the stack holds their indices; a finished box's net goes back to
+  // the free list and its storage is reused by the next halving).
+  struct Scratch {
+    std::vector<detail::BezierNet> nets;
+    std::vector<int> free, stack, first_pieces;
+    std::vector<Preimage> found;
+  };
+  thread_local Scratch scratch;
+  Scratch& sc = scratch;
+  sc.free.clear();
+  sc.stack.clear();
+  sc.found.clear();
+  sc.first_pieces.clear();
+  for (int i = static_cast<int>(sc.nets.size()) - 1; i >= 0; --i) sc.free.push_back(i);
+  auto acquire = [&sc]() {
+    if (sc.free.empty()) {
+      sc.nets.emplace_back();
+      return static_cast<int>(sc.nets.size()) - 1;
+    }
+    const int id = sc.free.back();
+    sc.free.pop_back();
+    return id;
+  };
+  std::vector<Preimage>& found = sc.found;
   auto try_newton = [&](const ParamBox& box) {
     const InverseResult r = detail::newton_in_box(volume, x, box.center(), dom, params.newton);
     if (r.status != InverseStatus::kConverged) return false;
@@ -114,19 +138,21 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
 
   // Depth-first over a stack; pieces are pushed in reverse so that they pop in order,
   // which keeps the search (and so its result) deterministic.
-  std::vector<int> first_pieces;
-  pieces_->index.query(x, box_tol, first_pieces);
-  std::vector<detail::BezierNet> stack;
-  for (auto it = first_pieces.rbegin(); it != first_pieces.rend(); ++it) {
+  pieces_->index.query(x, box_tol, sc.first_pieces);
+  for (auto it = sc.first_pieces.rbegin(); it != sc.first_pieces.rend(); ++it) {
     const detail::BezierNet& piece = pieces_->nets[static_cast<std::size_t>(*it)];
     // The plane test of the loop below, made before copying the net.
     if (use_plane && piece.max_along(normal) < plane) continue;
-    stack.push_back(piece);
+    const int id = acquire();
+    sc.nets[static_cast<std::size_t>(id)] = piece;
+    sc.stack.push_back(id);
   }
 
-  while (!stack.empty()) {
-    detail::BezierNet net = std::move(stack.back());
-    stack.pop_back();
+  while (!sc.stack.empty()) {
+    const int id = sc.stack.back();
+    sc.stack.pop_back();
+    sc.free.push_back(id);  // its net stays valid until the next acquire()
+    const detail::BezierNet& net = sc.nets[static_cast<std::size_t>(id)];
     const Box3 b = net.bounds();
     if (!b.contains(x, box_tol)) continue;
     if (use_plane && net.max_along(normal) < plane) continue;
@@ -162,9 +188,15 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
         split_dir = d;
       }
     }
-    auto halves = net.halve(split_dir);
-    stack.push_back(std::move(halves[1]));
-    stack.push_back(std::move(halves[0]));
+    // The parent is on the free list; keep it out of the halves' way (acquire() may also
+    // grow the pool, which moves the nets, so the parent is looked up again).
+    sc.free.pop_back();
+    const int left = acquire(), right = acquire();
+    sc.nets[static_cast<std::size_t>(id)].halve_into(split_dir, sc.nets[static_cast<std::size_t>(left)],
+                                                     sc.nets[static_cast<std::size_t>(right)]);
+    sc.free.push_back(id);
+    sc.stack.push_back(right);
+    sc.stack.push_back(left);
   }
 
   // Merge roots found twice (adjacent boxes), then order them.

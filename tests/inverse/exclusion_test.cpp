@@ -200,6 +200,43 @@ TEST(PolynomialNet, GivesTheNumbersOfDividingByUnitWeights) {
   }
 }
 
+// Halving is de Casteljau at the middle: each half must be the net that knot insertion
+// gives for that half of the box, in every direction, for orders 2 to 4 (quadratic and cubic
+// directions mixed), and halving into nets that held other data must leave none of it.
+TEST(BezierNet, HalvesAreTheNetsOfTheHalfBoxes) {
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> U(0.0, 0.5), S(0.1, 0.5);
+  for (const Volume& v : {test::twisted_bent_box(3, 2, 1, 4, 4), test::twisted_bent_box(3, 2, 1, 3, 3),
+                          test::twisted_bent_box(3, 2, 1, 2, 2)}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      const Vec3 lo{U(rng), U(rng), U(rng)};
+      const ParamBox box{lo, lo + Vec3{S(rng), S(rng), S(rng)}};
+      const detail::BezierNet net = net_on(v, box);
+      for (int d = 0; d < 3; ++d) {
+        detail::BezierNet left = net_on(v, {Vec3{0.6, 0.6, 0.6}, Vec3{0.9, 0.9, 0.9}}), right = left;
+        net.halve_into(d, left, right);
+        ParamBox left_box = box, right_box = box;
+        left_box.hi[d] = right_box.lo[d] = 0.5 * (box.lo[d] + box.hi[d]);
+        const auto halves = net.halve(d);
+        int k = 0;
+        for (const auto& [half, half_box] : {std::pair{&left, left_box}, std::pair{&right, right_box}}) {
+          const detail::BezierNet expected = net_on(v, half_box);
+          ASSERT_EQ(half->h.size(), expected.h.size());
+          for (int c = 0; c < 3; ++c) {
+            EXPECT_DOUBLE_EQ(half->box.lo[c], half_box.lo[c]);
+            EXPECT_DOUBLE_EQ(half->box.hi[c], half_box.hi[c]);
+          }
+          for (std::size_t q = 0; q < expected.h.size(); ++q) {
+            for (std::size_t c = 0; c < 4; ++c) EXPECT_NEAR(half->h[q][c], expected.h[q][c], 1e-12) << "direction " << d;
+            EXPECT_EQ(half->h[q], halves[static_cast<std::size_t>(k)].h[q]);  // halve() is halve_into()
+          }
+          ++k;
+        }
+      }
+    }
+  }
+}
+
 TEST(PolynomialNet, JacobianBoundsHoldTheJacobianEverywhereInTheBox) {
   // The hodograph hull bounds every Jacobian of the box: the reference is the evaluator.
   const Volume v = test::twisted_bent_box(3, 2, 1, 4, 4);  // one cubic piece
