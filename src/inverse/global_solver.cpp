@@ -102,6 +102,7 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
   struct Scratch {
     std::vector<detail::BezierNet> nets;
     std::vector<int> free, stack, first_pieces;
+    std::vector<char> singular;  // per preimage, while classifying them
     std::vector<Preimage> found;
   };
   thread_local Scratch scratch;
@@ -214,7 +215,8 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
   // Two preimages joined by a segment that V maps onto x lie on one degenerate set (a face
   // or edge collapsed to a point or line), not on two sheets of a fold.
   const std::size_t n = result.preimages.size();
-  std::vector<bool> singular(n, false);
+  std::vector<char>& singular = sc.singular;
+  singular.assign(n, 0);
   for (std::size_t i = 0; i < n; ++i)
     singular[i] = !(std::abs(result.preimages[i].det) > params.singular_relative * typical_abs_det_);
   for (std::size_t i = 0; i < n; ++i)
@@ -224,7 +226,7 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
         const Vec3 t = (1 - s) * result.preimages[i].uvw + s * result.preimages[j].uvw;
         if (norm(volume.evaluate(t) - x) > 10 * tol) joined = false;
       }
-      if (joined) singular[i] = singular[j] = true;
+      if (joined) singular[i] = singular[j] = 1;
     }
   int regular = 0;
   for (std::size_t i = 0; i < n; ++i)

@@ -1,5 +1,7 @@
 // The per-voxel hot path allocates nothing: Volume::evaluate, Volume::evaluate_jacobian,
-// invert() and invert_from_neighbour() run without a single call to operator new. This file
+// invert() and invert_from_neighbour() run without a single call to operator new, and the
+// global solver, once its thread has warmed its scratch, allocates only the preimages it
+// returns. This file
 // is a program of its own (trivox_alloc_tests) because it replaces the global allocation
 // functions with counting ones, which would count every other test's allocations too.
 #include <atomic>
@@ -107,6 +109,52 @@ TEST(HotPathAllocations, EvaluationAndNewtonAllocateNothing) {
     EXPECT_EQ(allocations, 0);
     EXPECT_EQ(converged, 2 * static_cast<int>(params.size()));  // the work was done
   }
+}
+
+// The slicer's global solves mostly prove a pixel just outside a face: each subdivides a
+// few pieces, and the nets it halves come from per-thread scratch, so after a warm-up such a
+// solve (no preimage to return) allocates nothing; one that finds a preimage allocates its
+// result only.
+TEST(HotPathAllocations, GlobalSolvesAllocateOnlyTheirResult) {
+  const Volume v = test::twisted_bent_box(40, 30, 60);
+  const GlobalSolver solver(v);
+  std::mt19937 rng(52);
+  std::uniform_real_distribution<double> U(0.05, 0.95);
+  std::vector<Vec3> outside, normals, inside;
+  for (int s = 0; s < 300; ++s) {
+    const Vec3 t{U(rng), U(rng), 1.0};  // on the face w = 1, which faces +w
+    Vec3 p;
+    Mat3 J;
+    v.evaluate_jacobian(t, p, J);
+    Vec3 n = cross(J.column(0), J.column(1));
+    if (dot(n, J.column(2)) < 0) n = -1.0 * n;
+    n = (1.0 / norm(n)) * n;
+    outside.push_back(p + 0.01 * n);
+    normals.push_back(n);
+    inside.push_back(v.evaluate({U(rng), U(rng), U(rng)}));
+  }
+  auto solve_all = [&](bool count) {
+    int none = 0, unique = 0;
+    long outside_allocations = 0, inside_allocations = 0;
+    for (std::size_t s = 0; s < outside.size(); ++s) {
+      const long before = g_allocations.load();
+      const GlobalResult a = solver.solve(outside[s], {}, normals[s]);
+      outside_allocations += g_allocations.load() - before;
+      none += a.status == GlobalStatus::kNone;
+      const long middle = g_allocations.load();
+      const GlobalResult b = solver.solve(inside[s]);
+      inside_allocations += g_allocations.load() - middle;
+      unique += b.status == GlobalStatus::kUnique;
+    }
+    if (count) {
+      EXPECT_EQ(outside_allocations, 0);
+      EXPECT_LE(inside_allocations, static_cast<long>(inside.size()));  // the one preimage each
+      EXPECT_EQ(none, static_cast<int>(outside.size()));  // the work was done
+      EXPECT_EQ(unique, static_cast<int>(inside.size()));
+    }
+  };
+  solve_all(false);  // warms this thread's scratch
+  solve_all(true);
 }
 
 }  // namespace
