@@ -1,5 +1,6 @@
 // Kernel figures for docs/PERFORMANCE.md: evaluation, warm-started inversion and global
-// solves on a cubic 8x8x8 trivariate (the twisted, bent 40 x 30 x 60 mm test column).
+// solves on a cubic 8x8x8 trivariate (the twisted, bent 40 x 30 x 60 mm test column), and
+// Floyd-Steinberg dithering of one layer.
 #include <random>
 #include <vector>
 
@@ -7,6 +8,7 @@
 
 #include "support/test_support.h"
 #include "trivox/inverse/invert.h"
+#include "trivox/raster/dither.h"
 
 namespace {
 
@@ -204,6 +206,34 @@ void BM_GlobalSolveJustOutside(benchmark::State& state) {
   state.counters["boxes_per_solve"] = static_cast<double>(boxes) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_GlobalSolveJustOutside)->ArgName("hint")->Arg(0)->Arg(1);
+
+// Floyd-Steinberg on a 2000 x 1000 layer of one to three materials: an elliptic part filling
+// most of the layer (the rest outside), graded in both directions, so that the error is never
+// zero.
+// Argument: the number of materials (1 to 3). Items are inside pixels.
+void BM_DitherFloydSteinberg(benchmark::State& state) {
+  const int w = 2000, h = 1000, m = static_cast<int>(state.range(0));
+  trivox::MaterialGrid grid(w, h, m);
+  trivox::InsideMask inside(w, h);
+  std::int64_t inside_pixels = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double a = (x - 0.5 * w) / (0.48 * w), b = (y - 0.5 * h) / (0.48 * h);
+      if (a * a + b * b > 1.0) continue;
+      inside.at(x, y) = 1;
+      ++inside_pixels;
+      for (int j = 0; j < m; ++j)
+        grid.at(x, y, j) = static_cast<float>((0.2 + 0.6 * x / w + 0.1 * j * y / h) / m);
+    }
+  trivox::LabelImage labels;
+  int layer = 0;
+  for (auto _ : state) {
+    trivox::dither(grid, inside, {}, labels, layer++);
+    benchmark::DoNotOptimize(labels.values().data());
+  }
+  state.SetItemsProcessed(state.iterations() * inside_pixels);
+}
+BENCHMARK(BM_DitherFloydSteinberg)->ArgName("materials")->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "raster/dither_kernels.h"
@@ -116,6 +117,27 @@ inline void spread_all(const std::int32_t* e, std::size_t num_components,
   }
 }
 
+// The first and last inside pixel of a mask row (first > last when there is none), found
+// eight mask bytes at a time across the empty ends.
+struct InsideSpan {
+  int first, last;
+};
+InsideSpan inside_span(const std::uint8_t* mask, int width) noexcept {
+  auto empty8 = [mask](int x) {
+    std::uint64_t word;
+    std::memcpy(&word, mask + x, sizeof word);
+    return word == 0;
+  };
+  int first = 0;
+  while (first + 8 <= width && empty8(first)) first += 8;
+  while (first < width && mask[first] == 0) ++first;
+  if (first == width) return {width, width - 1};
+  int last = width - 1;
+  while (last - 7 > first && empty8(last - 7)) last -= 8;
+  while (mask[last] == 0) --last;
+  return {first, last};
+}
+
 // Error rows live in a ring of Kernel::kRows rows, each width_px * (m + 1) int32: row y + r
 // is slot (y + r) % kRows. After row y is done its slot is cleared and becomes row
 // y + kRows.
@@ -149,35 +171,63 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
     const float* fraction_row = fractions.row(image_row(y)).data();
     std::uint8_t* label_row = labels.row(image_row(y)).data();
 
-    for (int i = 0; i < width; ++i) {
-      const int x = reverse ? width - 1 - i : i;
+    // Only the columns from the row's first inside pixel to its last can hold a label or
+    // receive error (every receiver is an inside pixel), so the rest of the row is void.
+    std::fill(label_row, label_row + width, LabelImage::kVoid);
+    const InsideSpan span = inside_span(mask_rows[0], width);
+    if (span.first > span.last) continue;  // its error row was never written
+    for (int i = 0; i <= span.last - span.first; ++i) {
+      const int x = reverse ? span.last - i : span.first + i;
       if (mask_rows[0][x] == 0) {
         label_row[x] = LabelImage::kVoid;
         continue;
       }
-      // Desired vector, in place over the error received so far.
-      std::int32_t* desired = error_rows[0] + static_cast<std::size_t>(x) * num_components;
+      // The desired vector: the error received so far plus the pixel's fractions. With the
+      // component count known at compile time it lives in registers (`local`); otherwise in
+      // place, in the pixel's slot of the error row (which nothing reads after this pixel).
+      std::int32_t* const slot = error_rows[0] + static_cast<std::size_t>(x) * num_components;
+      std::int32_t local[kComponents > 0 ? kComponents : 1];
+      std::int32_t* const e = kComponents > 0 ? local : slot;
       const float* f = fraction_row + static_cast<std::size_t>(x) * m;
       std::int32_t material_total = 0;
       for (std::size_t k = 0; k < m; ++k) {
         const std::int32_t q = detail::fraction_to_fixed(f[k]);
-        desired[k + 1] += q;
+        e[k + 1] = slot[k + 1] + q;
         material_total += q;
       }
-      desired[0] += kDitherFixedOne - material_total;
+      e[0] = slot[0] + (kDitherFixedOne - material_total);
 
-      // Branch-free running maximum: which component wins is data-dependent noise, the
-      // worst case for a branch predictor.
-      std::size_t best = 0;
-      std::int32_t best_value = desired[0];
+      // The largest component wins, ties to the lowest label. Branch-free on purpose (masks,
+      // not conditionals the compiler may turn back into jumps): which component wins is
+      // data-dependent noise, the worst case for a branch predictor.
+      std::int32_t best = 0;
+      std::int32_t best_value = e[0];
       for (std::size_t c = 1; c < num_components; ++c) {
-        const bool larger = desired[c] > best_value;
-        best = larger ? c : best;
-        best_value = larger ? desired[c] : best_value;
+        const std::int32_t larger = -static_cast<std::int32_t>(e[c] > best_value);
+        best = (best & ~larger) | (static_cast<std::int32_t>(c) & larger);
+        best_value = std::max(best_value, e[c]);
       }
       label_row[x] = static_cast<std::uint8_t>(best);
-      desired[best] -= kDitherFixedOne;  // now the error to diffuse
+      // Now the error to diffuse.
+      for (std::size_t c = 0; c < num_components; ++c)
+        e[c] -= kDitherFixedOne & -static_cast<std::int32_t>(static_cast<std::int32_t>(c) == best);
 
+      // Inside the part, every tap receives: the receivers then follow from x alone, so the
+      // common case is decided first and its pointers stay in registers.
+      bool all_receive = true;
+      for (const detail::DiffusionTap& tap : taps) {
+        const int nx = x + dir * tap.dx;
+        const std::uint8_t* mask_row = mask_rows[tap.dy];
+        all_receive = all_receive && nx >= 0 && nx < width && mask_row != nullptr && mask_row[nx] != 0;
+      }
+      if (all_receive) {
+        std::int32_t* to[kNumTaps];
+        for (int t = 0; t < kNumTaps; ++t)
+          to[t] = error_rows[taps[static_cast<std::size_t>(t)].dy] +
+                  static_cast<std::size_t>(x + dir * taps[static_cast<std::size_t>(t)].dx) * num_components;
+        spread_all<Kernel>(e, num_components, to);
+        continue;
+      }
       std::int32_t* to[kNumTaps];
       std::int32_t weights[kNumTaps];
       int count = 0;
@@ -191,13 +241,10 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
         weight_sum += tap.weight;
         ++count;
       }
-      if (count == kNumTaps) {
-        spread_all<Kernel>(desired, num_components, to);
-      } else if (count > 0) {
-        spread(desired, num_components, to, weights, count, weight_sum);
-      }
+      if (count > 0) spread(e, num_components, to, weights, count, weight_sum);
     }
-    std::fill(error_rows[0], error_rows[0] + row_values, 0);
+    std::fill(error_rows[0] + static_cast<std::size_t>(span.first) * num_components,
+              error_rows[0] + static_cast<std::size_t>(span.last + 1) * num_components, 0);
   }
 }
 
