@@ -70,52 +70,38 @@ void BezierNet::halve_into(int d, BezierNet& left, BezierNet& right) const {
   const double mid = 0.5 * (box.lo[d] + box.hi[d]);
   left.box.hi[d] = mid;
   right.box.lo[d] = mid;
-  const auto dd = static_cast<std::size_t>(d);
-  const int n = order[dd];
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(order[0]),
-                                 static_cast<std::size_t>(order[0]) * static_cast<std::size_t>(order[1])};
-  const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-  const std::size_t step = stride[dd];
-  // One line of control points along d at a time (orders are at most kMaxOrder), addressed
-  // by its first point's index and the stride along d.
+  const int n = order[static_cast<std::size_t>(d)];
+  // One line of control points along d at a time (orders are at most kMaxOrder).
   std::array<H, kMaxOrder> line;
-  for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
-    for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
-      const std::size_t first = static_cast<std::size_t>(t) * stride[a] + static_cast<std::size_t>(s) * stride[b];
-      for (int i = 0; i < n; ++i) line[static_cast<std::size_t>(i)] = h[first + static_cast<std::size_t>(i) * step];
-      // de Casteljau at 1/2: after r averaging steps, line[0] is the left half's point r and
-      // line[n-1-r] the right half's point n-1-r.
-      for (int r = 0; r < n; ++r) {
-        left.h[first + static_cast<std::size_t>(r) * step] = line[0];
-        right.h[first + static_cast<std::size_t>(n - 1 - r) * step] = line[static_cast<std::size_t>(n - 1 - r)];
-        for (int i = 0; i < n - 1 - r; ++i)
-          for (std::size_t c = 0; c < 4; ++c)
-            line[static_cast<std::size_t>(i)][c] =
-                0.5 * (line[static_cast<std::size_t>(i)][c] + line[static_cast<std::size_t>(i + 1)][c]);
-      }
+  for_each_line(d, [&](std::size_t first, std::size_t step) {
+    for (int i = 0; i < n; ++i) line[static_cast<std::size_t>(i)] = h[first + static_cast<std::size_t>(i) * step];
+    // de Casteljau at 1/2: after r averaging steps, line[0] is the left half's point r and
+    // line[n-1-r] the right half's point n-1-r.
+    for (int r = 0; r < n; ++r) {
+      left.h[first + static_cast<std::size_t>(r) * step] = line[0];
+      right.h[first + static_cast<std::size_t>(n - 1 - r) * step] = line[static_cast<std::size_t>(n - 1 - r)];
+      for (int i = 0; i < n - 1 - r; ++i)
+        for (std::size_t c = 0; c < 4; ++c)
+          line[static_cast<std::size_t>(i)][c] =
+              0.5 * (line[static_cast<std::size_t>(i)][c] + line[static_cast<std::size_t>(i + 1)][c]);
     }
+  });
 }
 
 std::array<double, 3> BezierNet::extents() const {
   // The longest control polygon along each direction (Euclidean points as they are needed:
   // no division at all for polynomial nets).
-  const std::array<std::size_t, 3> stride = {1, static_cast<std::size_t>(order[0]),
-                                             static_cast<std::size_t>(order[0] * order[1])};
   std::array<double, 3> out{};
   for (int d = 0; d < 3; ++d) {
     const auto dd = static_cast<std::size_t>(d);
-    const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-    for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
-      for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
-        const std::size_t first = static_cast<std::size_t>(t) * stride[static_cast<std::size_t>(a)] +
-                                  static_cast<std::size_t>(s) * stride[static_cast<std::size_t>(b)];
-        double poly = 0.0;
-        for (int i = 1; i < order[dd]; ++i) {
-          const std::size_t q = first + static_cast<std::size_t>(i) * stride[dd];
-          poly += norm(euclidean(q) - euclidean(q - stride[dd]));
-        }
-        out[dd] = std::max(out[dd], poly);
+    for_each_line(d, [&](std::size_t first, std::size_t step) {
+      double poly = 0.0;
+      for (int i = 1; i < order[dd]; ++i) {
+        const std::size_t q = first + static_cast<std::size_t>(i) * step;
+        poly += norm(euclidean(q) - euclidean(q - step));
       }
+      out[dd] = std::max(out[dd], poly);
+    });
   }
   return out;
 }
@@ -127,34 +113,29 @@ bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi, const Box3& xb) const {
   Interval W{HUGE_VAL, -HUGE_VAL};
   for (const H& p : h) W = {std::min(W.lo, p[3]), std::max(W.hi, p[3])};
   if (!(W.lo > 0)) return false;
-  const std::size_t stride[3] = {1, static_cast<std::size_t>(order[0]), static_cast<std::size_t>(order[0] * order[1])};
   for (int d = 0; d < 3; ++d) {
     const int n = order[static_cast<std::size_t>(d)];
     // Hull of the hodograph along d: differences of neighbouring control points, scaled.
-    // Eight running extrema (low and high of X_p, Y_p, Z_p, W_p) over a flat sweep of the
-    // net, kept apart so that they vectorize.
+    // Eight running extrema (low and high of X_p, Y_p, Z_p, W_p), kept apart so that they
+    // vectorize.
     double dlo[4] = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
     double dhi[4] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
     if (n == 1) {
       for (int q = 0; q < 4; ++q) dlo[q] = dhi[q] = 0.0;
     } else {
       const double scale = (n - 1) / (box.hi[d] - box.lo[d]);
-      const std::size_t step = stride[d];
-      const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-      // Line by line along d, each line's consecutive differences.
-      for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
-        for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t) {
-          const std::size_t first = static_cast<std::size_t>(t) * stride[a] + static_cast<std::size_t>(s) * stride[b];
-          for (int i = 0; i + 1 < n; ++i) {
-            const H& p0 = h[first + static_cast<std::size_t>(i) * step];
-            const H& p1 = h[first + static_cast<std::size_t>(i + 1) * step];
-            for (std::size_t c = 0; c < 4; ++c) {
-              const double v = scale * (p1[c] - p0[c]);
-              dlo[c] = v < dlo[c] ? v : dlo[c];
-              dhi[c] = v > dhi[c] ? v : dhi[c];
-            }
+      // Each line's consecutive differences.
+      for_each_line(d, [&](std::size_t first, std::size_t step) {
+        for (int i = 0; i + 1 < n; ++i) {
+          const H& p0 = h[first + static_cast<std::size_t>(i) * step];
+          const H& p1 = h[first + static_cast<std::size_t>(i + 1) * step];
+          for (std::size_t c = 0; c < 4; ++c) {
+            const double v = scale * (p1[c] - p0[c]);
+            dlo[c] = v < dlo[c] ? v : dlo[c];
+            dhi[c] = v > dhi[c] ? v : dhi[c];
           }
         }
+      });
     }
     for (int r = 0; r < 3; ++r) {
       const Interval xr{xb.lo[r], xb.hi[r]};

@@ -178,10 +178,7 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
     if (span.first > span.last) continue;  // its error row was never written
     for (int i = 0; i <= span.last - span.first; ++i) {
       const int x = reverse ? span.last - i : span.first + i;
-      if (mask_rows[0][x] == 0) {
-        label_row[x] = LabelImage::kVoid;
-        continue;
-      }
+      if (mask_rows[0][x] == 0) continue;  // void, as filled above
       // The desired vector: the error received so far plus the pixel's fractions. With the
       // component count known at compile time it lives in registers (`local`); otherwise in
       // place, in the pixel's slot of the error row (which nothing reads after this pixel).

@@ -34,6 +34,18 @@ TrimClause volume_clause(int v, TrimSide side) {
   return k;
 }
 
+// Clauses of `kind` that keep what lies inside `keep` and outside `hole`.
+std::vector<TrimClause> keep_with_hole(TrimKind kind, const Hexahedron& keep, const Hexahedron& hole) {
+  TrimClause inside;
+  inside.kind = kind;
+  inside.side = TrimSide::kInside;
+  inside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(keep));
+  TrimClause outside = inside;
+  outside.side = TrimSide::kOutside;
+  outside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(hole));
+  return {inside, outside};
+}
+
 // Two overlapping volumes: an axis-aligned box and a skewed hexahedron.
 Scene boolean_scene(bool reversed) {
   Scene s = test::scene_with({}, 3);
@@ -188,14 +200,7 @@ TEST(TrimmedCells, ParametricOutlinesNarrowTheCandidatesAndChangeNoPixel) {
   const Hexahedron keep = {Vec3{0.15, -0.2, 0.1}, Vec3{0.85, -0.1, 0.15}, Vec3{0.2, 0.7, 0.05}, Vec3{0.9, 0.6, 0.2},
                            Vec3{0.1, -0.15, 0.8}, Vec3{0.8, -0.2, 0.9}, Vec3{0.25, 0.65, 0.95}, Vec3{0.95, 0.75, 0.85}};
   Scene s = test::scene_with({test::gradient_cell(test::annulus_sector(1, 3, 1))}, 2);
-  TrimClause inside;
-  inside.kind = TrimKind::kParametric;
-  inside.side = TrimSide::kInside;
-  inside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(keep));
-  TrimClause outside = inside;
-  outside.side = TrimSide::kOutside;
-  outside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(test::axis_box({0.4, 0.2, 0.3}, {0.6, 0.4, 0.6})));
-  s.cells[0].trim.clauses = {inside, outside};
+  s.cells[0].trim.clauses = keep_with_hole(TrimKind::kParametric, keep, test::axis_box({0.4, 0.2, 0.3}, {0.6, 0.4, 0.6}));
   SliceParams reference_params;
   reference_params.parametric_outlines = false;
   const Slicer narrowed(s, {}), reference(s, reference_params);
@@ -229,16 +234,9 @@ TEST(TrimmedCells, ShellTrimsNarrowTheCandidatesAndChangeNoPixel) {
   // away its ends and its top, without a box-shaped hole.
   const Hexahedron keep = {Vec3{0.4, -0.3, -0.2}, Vec3{2.6, -0.2, -0.3}, Vec3{0.2, 2.4, -0.25}, Vec3{2.4, 2.2, -0.1},
                            Vec3{0.5, -0.2, 0.8},  Vec3{2.7, -0.3, 0.7},  Vec3{0.3, 2.3, 0.75},  Vec3{2.5, 2.5, 0.85}};
-  TrimClause inside;
-  inside.kind = TrimKind::kShell;
-  inside.side = TrimSide::kInside;
-  inside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(keep));
-  TrimClause outside = inside;
-  outside.side = TrimSide::kOutside;
-  outside.shell = std::make_shared<TrimShell>(test::hexahedron_shell(test::axis_box({1.2, 0.8, 0.2}, {1.8, 1.4, 0.6})));
   const Scene untrimmed = test::scene_with({test::gradient_cell(test::annulus_sector(1, 3, 1))}, 2);
   Scene s = untrimmed;
-  s.cells[0].trim.clauses = {inside, outside};
+  s.cells[0].trim.clauses = keep_with_hole(TrimKind::kShell, keep, test::axis_box({1.2, 0.8, 0.2}, {1.8, 1.4, 0.6}));
   SliceParams reference_params;
   reference_params.model_space_narrowing = false;
   const Slicer narrowed(s, {}), reference(s, reference_params), whole(untrimmed, {});
