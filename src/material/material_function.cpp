@@ -53,8 +53,36 @@ std::string material_label(const MaterialSite& site, int j) {
 
 }  // namespace
 
+namespace {
+
+// Whether the policy leaves every sample as it is: each fraction finite and >= 0, each
+// sample's sum (added in double, as the policy adds it) <= 1. Branch-free so that the
+// compiler vectorizes it; most material functions give such rows, and then the policy costs
+// one pass. kM = 0: any count, m.
+template <std::size_t kM>
+bool row_untouched(const float* f, std::size_t samples, std::size_t m) noexcept {
+  const std::size_t n = kM > 0 ? kM : m;
+  int ok = 1;
+  for (std::size_t i = 0; i < samples * n; ++i)
+    ok &= static_cast<int>(f[i] >= 0.0f) & static_cast<int>(f[i] <= std::numeric_limits<float>::max());
+  for (std::size_t s = 0; s < samples; ++s) {
+    double sum = 0.0;
+    for (std::size_t j = 0; j < n; ++j) sum += f[s * n + j];
+    ok &= static_cast<int>(sum <= 1.0);
+  }
+  return ok != 0;
+}
+
+}  // namespace
+
 void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m,
                            std::span<const Vec3> uvw, std::span<float> fractions) {
+  const auto count = static_cast<std::size_t>(m);
+  const bool untouched = count == 1   ? row_untouched<1>(fractions.data(), uvw.size(), 1)
+                         : count == 2 ? row_untouched<2>(fractions.data(), uvw.size(), 2)
+                         : count == 3 ? row_untouched<3>(fractions.data(), uvw.size(), 3)
+                                      : row_untouched<0>(fractions.data(), uvw.size(), count);
+  if (untouched) return;
   const bool strict = policy.policy == SumPolicy::error;
   const double tol = policy.tolerance;
   const auto mm = static_cast<std::size_t>(m);

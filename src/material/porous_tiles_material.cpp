@@ -55,6 +55,8 @@ void PorousTilesMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
   const double r2 = params_.radius * params_.radius;
   const std::array<int, 2> c0 = across(params_.cylinder_axes[0]);
   const std::array<int, 2> c1 = across(params_.cylinder_axes[1]);
+  // Zeros for the whole row at once, then a single 1 per sample of material.
+  std::fill(fractions.begin(), fractions.begin() + static_cast<std::ptrdiff_t>(uvw.size() * m), 0.0f);
   for (std::size_t s = 0; s < uvw.size(); ++s) {
     const Vec3 p = map_(uvw[s]);
     int parity = 0;
@@ -69,7 +71,6 @@ void PorousTilesMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
     const double d0 = local[c0[0]] * local[c0[0]] + local[c0[1]] * local[c0[1]];
     const double d1 = local[c1[0]] * local[c1[0]] + local[c1[1]] * local[c1[1]];
     float* f = fractions.data() + s * m;
-    std::fill(f, f + m, 0.0f);
     const int material = params_.materials[static_cast<std::size_t>(parity & 1)];
     if (material != kVoidMaterial && d0 >= r2 && d1 >= r2) f[material] = 1.0f;
   }

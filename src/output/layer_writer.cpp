@@ -1,6 +1,7 @@
 #include "trivox/output/layer_writer.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -42,16 +43,20 @@ std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext&
   return palette;
 }
 
+void voxelprint_rgba_row(const LabelImage& labels, int y, const std::vector<std::array<std::uint8_t, 4>>& palette,
+                         std::span<std::uint8_t> rgba) {
+  std::uint8_t* out = rgba.data();
+  for (std::uint8_t label : labels.row(y)) {
+    std::memcpy(out, palette[label].data(), 4);
+    out += 4;
+  }
+}
+
 std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels, const std::vector<std::array<std::uint8_t, 4>>& palette) {
   std::vector<std::uint8_t> rgba(labels.values().size() * 4);
-  std::size_t o = 0;
-  for (std::uint8_t label : labels.values()) {
-    const auto& c = palette[label];
-    rgba[o++] = c[0];
-    rgba[o++] = c[1];
-    rgba[o++] = c[2];
-    rgba[o++] = c[3];
-  }
+  const std::size_t row_bytes = static_cast<std::size_t>(labels.width_px()) * 4;
+  for (int y = 0; y < labels.height_px(); ++y)
+    voxelprint_rgba_row(labels, y, palette, std::span(rgba).subspan(static_cast<std::size_t>(y) * row_bytes, row_bytes));
   return rgba;
 }
 
@@ -64,9 +69,11 @@ class VoxelPrintWriter final : public LayerWriter {
   explicit VoxelPrintWriter(OutputContext c) : c_(std::move(c)), palette_(detail::voxelprint_palette(c_)) {}
   std::string_view name() const noexcept override { return "voxelprint"; }
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
-    const std::vector<std::uint8_t> rgba = detail::voxelprint_rgba(labels, palette_);
     std::string file = c_.prefix + layer_number(index, c_.total_layers) + ".png";
-    write_png_rgba(c_.dir / file, labels.width_px(), labels.height_px(), rgba, c_.png);
+    // Row by row: a layer's RGBA (tens of megabytes at printer resolution) never exists whole.
+    write_png_rgba_rows(
+        c_.dir / file, labels.width_px(), labels.height_px(),
+        [&](int y, std::span<std::uint8_t> row) { detail::voxelprint_rgba_row(labels, y, palette_, row); }, c_.png);
     return {file};
   }
 

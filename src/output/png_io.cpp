@@ -4,10 +4,13 @@
 #include <png.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <exception>
 #include <string>
 #include <system_error>
 
@@ -110,9 +113,17 @@ struct PngMessage {
 // The library never prints; libpng's default handler would write warnings to stderr.
 void on_png_warning(png_structp, png_const_charp) {}
 
+// The rows of a job written a row at a time: `fill` fills `row` (owned by the caller).
+struct PngRowSource {
+  const std::function<void(int, std::span<std::uint8_t>)>* fill;
+  std::uint8_t* row;
+  std::size_t row_bytes;
+};
+
 struct PngWriteJob {
   std::FILE* file;
-  const unsigned char* pixels;
+  const unsigned char* pixels;  // null when `rows` supplies the pixels
+  const PngRowSource* rows;
   std::size_t row_stride;  // bytes from one row to the next
   png_uint_32 width;
   png_uint_32 height;
@@ -152,7 +163,27 @@ bool write_png_core(PngWriteJob* job) noexcept {
   if (job->palette_size > 0) png_set_PLTE(png, info, job->palette, job->palette_size);
   png_write_info(png, info);
   for (png_uint_32 y = 0; y < job->height; ++y) {
-    png_write_row(png, job->pixels + static_cast<std::size_t>(y) * job->row_stride);
+    if (job->rows == nullptr) {
+      png_write_row(png, job->pixels + static_cast<std::size_t>(y) * job->row_stride);
+      continue;
+    }
+    // The row source runs here, in this frame, not inside libpng: its exception is caught
+    // before any longjmp could skip it.
+    bool filled = true;
+    try {
+      (*job->rows->fill)(static_cast<int>(y), {job->rows->row, job->rows->row_bytes});
+    } catch (const std::exception& e) {
+      std::snprintf(job->error.text, sizeof job->error.text, "%s", e.what());
+      filled = false;
+    } catch (...) {
+      std::snprintf(job->error.text, sizeof job->error.text, "the row source failed");
+      filled = false;
+    }
+    if (!filled) {
+      png_destroy_write_struct(&png, &info);
+      return false;
+    }
+    png_write_row(png, job->rows->row);
   }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
@@ -298,6 +329,19 @@ void write_png_rgba(const std::filesystem::path& path, int width_px, int height_
   write_png(path, params,
             make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
                      PNG_COLOR_TYPE_RGBA));
+}
+
+void write_png_rgba_rows(const std::filesystem::path& path, int width_px, int height_px,
+                         const std::function<void(int y, std::span<std::uint8_t> row)>& fill_row,
+                         const PngWriteParams& params) {
+  params.validate();
+  const std::size_t row_bytes = static_cast<std::size_t>(std::max(width_px, 0)) * 4;
+  check_size(path, width_px, height_px, 4, row_bytes * static_cast<std::size_t>(std::max(height_px, 0)));
+  std::vector<std::uint8_t> row(row_bytes);
+  const PngRowSource rows{&fill_row, row.data(), row_bytes};
+  PngWriteJob job = make_job(nullptr, row_bytes, width_px, height_px, 8, PNG_COLOR_TYPE_RGBA);
+  job.rows = &rows;
+  write_png(path, params, job);
 }
 
 void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,

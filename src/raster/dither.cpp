@@ -342,8 +342,10 @@ void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const 
 
 }  // namespace
 
-void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
-            LabelImage& labels, int layer) {
+namespace {
+
+void dither_grid(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
+                 LabelImage& labels, int layer, bool check_grid) {
   params.validate();
   if (layer < 0) throw Error(fmt::format("dither: layer = {} is negative", layer));
   if (inside.width_px() != fractions.width_px() || inside.height_px() != fractions.height_px()) {
@@ -351,7 +353,7 @@ void dither(const MaterialGrid& fractions, const InsideMask& inside, const Dithe
                             inside.width_px(), inside.height_px(), fractions.width_px(),
                             fractions.height_px()));
   }
-  fractions.check_fractions(params.fraction_tolerance);
+  if (check_grid) fractions.check_fractions(params.fraction_tolerance);
   if (labels.width_px() != fractions.width_px() || labels.height_px() != fractions.height_px()) {
     labels = LabelImage(fractions.width_px(), fractions.height_px());
   }
@@ -373,6 +375,18 @@ void dither(const MaterialGrid& fractions, const InsideMask& inside, const Dithe
       if (d > 0 && d < cap) labels.at(x, y) = nearest_pure_label(fractions.pixel(x, y));
     }
   }
+}
+
+}  // namespace
+
+void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
+            LabelImage& labels, int layer) {
+  dither_grid(fractions, inside, params, labels, layer, true);
+}
+
+void detail::dither_checked_grid(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
+                                 LabelImage& labels, int layer) {
+  dither_grid(fractions, inside, params, labels, layer, false);
 }
 
 LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside,

@@ -82,11 +82,31 @@ bool row_in_range(const float* f, int width_px, std::size_t m, float lo, float h
 
 }  // namespace
 
-void MaterialGrid::check_fractions(float tolerance) const {
+namespace {
+
+void check_tolerance(float tolerance) {
   if (!std::isfinite(tolerance) || tolerance < 0.0f) {
     throw Error(
         fmt::format("material grid: fraction tolerance {} is not finite and >= 0", tolerance));
   }
+}
+
+}  // namespace
+
+void MaterialGrid::check_pixel(int x, int y, float tolerance) const {
+  check_tolerance(tolerance);
+  const float* f = pixel(x, y).data();
+  bool in_range = true;
+  float sum = 0.0f;
+  for (std::size_t k = 0; k < m(); ++k) {
+    in_range &= f[k] >= -tolerance && f[k] <= 1.0f + tolerance;
+    sum += f[k];
+  }
+  if (!in_range || !(sum <= 1.0f + tolerance)) throw_bad_pixel({f, m()}, x, y, tolerance, sum);
+}
+
+void MaterialGrid::check_fractions(float tolerance) const {
+  check_tolerance(tolerance);
   const float lo = -tolerance;
   const float hi = 1.0f + tolerance;
   // Compiled for one to eight materials (a J850 takes 7, plus support), generic beyond.
@@ -98,16 +118,7 @@ void MaterialGrid::check_fractions(float tolerance) const {
   for (int y = 0; y < height_px_; ++y) {
     if (row_ok(row(y).data(), width_px_, m(), lo, hi)) continue;
     // Find the first bad pixel of the row for the message.
-    const float* f = row(y).data();
-    for (int x = 0; x < width_px_; ++x, f += m()) {
-      bool in_range = true;
-      float sum = 0.0f;
-      for (std::size_t k = 0; k < m(); ++k) {
-        in_range &= f[k] >= lo && f[k] <= hi;
-        sum += f[k];
-      }
-      if (!in_range || !(sum <= hi)) throw_bad_pixel({f, m()}, x, y, tolerance, sum);
-    }
+    for (int x = 0; x < width_px_; ++x) check_pixel(x, y, tolerance);
   }
 }
 

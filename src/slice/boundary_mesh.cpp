@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 
 namespace trivox::detail {
 
@@ -19,20 +18,28 @@ std::vector<double> samples_of(double lo, double hi, int n) {
 double face_deviation(const Volume& v, int fixed, double at, int a, const std::vector<double>& ta, int b,
                       const std::vector<double>& tb) {
   double worst = 0.0;
-  auto eval = [&](double s, double t) {
+  auto param = [&](double s, double t) {
     Vec3 p;
     p[fixed] = at;
     p[a] = s;
     p[b] = t;
-    return v.evaluate(p);
+    return p;
   };
-  std::vector<Vec3> prev(ta.size()), cur(ta.size());
-  for (std::size_t i = 0; i < ta.size(); ++i) prev[i] = eval(ta[i], tb[0]);
+  // A row of grid points, and of cell centres, evaluated together.
+  const std::size_t n = ta.size();
+  std::vector<Vec3> row_params(n), centre_params(n - 1), prev(n), cur(n), centres(n - 1);
+  auto grid_row = [&](double t, std::vector<Vec3>& out) {
+    for (std::size_t i = 0; i < n; ++i) row_params[i] = param(ta[i], t);
+    v.evaluate_many(row_params, out);
+  };
+  grid_row(tb[0], prev);
   for (std::size_t j = 1; j < tb.size(); ++j) {
-    for (std::size_t i = 0; i < ta.size(); ++i) cur[i] = eval(ta[i], tb[j]);
-    for (std::size_t i = 1; i < ta.size(); ++i) {
+    grid_row(tb[j], cur);
+    for (std::size_t i = 1; i < n; ++i) centre_params[i - 1] = param(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
+    v.evaluate_many(centre_params, centres);
+    for (std::size_t i = 1; i < n; ++i) {
       const Vec3 bilinear = 0.25 * (prev[i - 1] + prev[i] + cur[i - 1] + cur[i]);
-      const Vec3 centre = eval(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
+      const Vec3 centre = centres[i - 1];
       // The cell is drawn as two triangles split along its (i-1, j-1)-(i, j) diagonal: a
       // twisted cell can match its bilinear patch at the centre and still miss the
       // triangles by far, so the diagonal's midpoint is checked too.
@@ -72,19 +79,38 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
     if (!any) break;
   }
 
-  // Vertices are keyed by their grid index (i, j, k) on the boundary so shared edges reuse them.
+  // Vertices are numbered in the order the triangles first reach them, and shared edges and
+  // corners reuse them: a vertex's number is kept in the first face (in the loop's order) that
+  // holds it, in a dense table of that face's grid.
   std::array<std::vector<double>, 3> t;
   for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
-  std::map<std::array<int, 3>, int> index;
-  auto vertex = [&](std::array<int, 3> ijk) {
-    auto [it, inserted] = index.try_emplace(ijk, static_cast<int>(vertices_.size()));
-    if (inserted) {
-      const Vec3 p = v.evaluate({t[0][static_cast<std::size_t>(ijk[0])], t[1][static_cast<std::size_t>(ijk[1])],
-                                 t[2][static_cast<std::size_t>(ijk[2])]});
-      vertices_.push_back(p);
-      bounds_.expand(p);
+  struct FaceTable {
+    int fixed, side, a, b;
+    std::vector<int> id;  // per grid point of the face, index i_a + n_a * i_b; -1 = none yet
+  };
+  std::vector<FaceTable> faces;
+  for (int fixed = 0; fixed < 3; ++fixed) {
+    const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
+    for (int side : {0, n_[static_cast<std::size_t>(fixed)] - 1})
+      faces.push_back({fixed, side, a, b,
+                       std::vector<int>(static_cast<std::size_t>(n_[static_cast<std::size_t>(a)]) *
+                                            static_cast<std::size_t>(n_[static_cast<std::size_t>(b)]),
+                                        -1)});
+  }
+  std::vector<std::array<int, 3>> grid_of;  // per vertex: its grid index (i, j, k)
+  auto vertex = [&](const std::array<int, 3>& ijk) {
+    for (FaceTable& f : faces) {
+      if (ijk[static_cast<std::size_t>(f.fixed)] != f.side) continue;
+      int& id = f.id[static_cast<std::size_t>(ijk[static_cast<std::size_t>(f.a)]) +
+                     static_cast<std::size_t>(n_[static_cast<std::size_t>(f.a)]) *
+                         static_cast<std::size_t>(ijk[static_cast<std::size_t>(f.b)])];
+      if (id < 0) {
+        id = static_cast<int>(grid_of.size());
+        grid_of.push_back(ijk);
+      }
+      return id;
     }
-    return it->second;
+    return -1;  // not on the boundary: never asked for
   };
   for (int fixed = 0; fixed < 3; ++fixed) {
     const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
@@ -104,6 +130,18 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
         }
     }
   }
+  faces.clear();
+  faces.shrink_to_fit();
+  // Evaluated once numbered, together (evaluate_many gives each the value evaluate would).
+  std::vector<Vec3> params(grid_of.size());
+  for (std::size_t k = 0; k < grid_of.size(); ++k) {
+    const auto& ijk = grid_of[k];
+    params[k] = {t[0][static_cast<std::size_t>(ijk[0])], t[1][static_cast<std::size_t>(ijk[1])],
+                 t[2][static_cast<std::size_t>(ijk[2])]};
+  }
+  vertices_.resize(grid_of.size());
+  v.evaluate_many(params, vertices_);
+  for (const Vec3& p : vertices_) bounds_.expand(p);
   // Height buckets of about a millimetre-scale slab each (64 across the model).
   const int nb = 64;
   bucket_z0_ = bounds_.lo.z;

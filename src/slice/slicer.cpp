@@ -48,6 +48,49 @@ struct Slicer::CellData {
   bool parametric_outlines = false;  // any kParametric clause with an outline
 };
 
+// A layer's dense rasters, handed out all zero and handed back all zero: the slicer clears
+// only the span of each row that a layer wrote (every written grid pixel is an inside pixel).
+struct Slicer::LayerBuffers {
+  MaterialGrid grid;
+  InsideMask inside;
+  std::vector<std::pair<int, int>> written;  // per row: first and last column written, or {1, 0}
+
+  LayerBuffers(int width_px, int height_px, int num_materials)
+      : grid(width_px, height_px, num_materials),
+        inside(width_px, height_px, 0),
+        written(static_cast<std::size_t>(height_px), {1, 0}) {}
+
+  void clear() {
+    const auto m = static_cast<std::size_t>(grid.num_materials());
+    for (std::size_t y = 0; y < written.size(); ++y) {
+      auto& [first, last] = written[y];
+      if (first > last) continue;
+      const auto n = static_cast<std::size_t>(last - first + 1);
+      std::fill_n(inside.row(static_cast<int>(y)).begin() + first, n, std::uint8_t{0});
+      std::fill_n(grid.row(static_cast<int>(y)).begin() + static_cast<std::ptrdiff_t>(first * m), n * m, 0.0f);
+      written[y] = {1, 0};
+    }
+  }
+};
+
+std::unique_ptr<Slicer::LayerBuffers> Slicer::take_buffers() const {
+  {
+    const std::lock_guard lock(buffers_mutex_);
+    if (!free_buffers_.empty()) {
+      auto buffers = std::move(free_buffers_.back());
+      free_buffers_.pop_back();
+      return buffers;
+    }
+  }
+  return std::make_unique<LayerBuffers>(layout_.width_px, layout_.height_px, scene_.num_materials());
+}
+
+void Slicer::give_back(std::unique_ptr<LayerBuffers> buffers) const {
+  buffers->clear();
+  const std::lock_guard lock(buffers_mutex_);
+  free_buffers_.push_back(std::move(buffers));
+}
+
 namespace {
 
 // The layer's state of the trivariates traced first and of the cut shells.
@@ -175,11 +218,14 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   st.z_mm = L.z_of_layer(layer);
   st.pixels_total = static_cast<std::int64_t>(L.width_px) * L.height_px;
 
-  MaterialGrid grid(L.width_px, L.height_px, m);
-  InsideMask inside(L.width_px, L.height_px, 0);
+  // Not handed back when the layer throws: a buffer in the pool is always all zero.
+  std::unique_ptr<LayerBuffers> buffers = take_buffers();
+  MaterialGrid& grid = buffers->grid;
+  InsideMask& inside = buffers->inside;
   // With one cell, a pixel's owner is that cell wherever the pixel is inside: no per-pixel
   // bookkeeping (at Voxel Print resolution it would be 5 bytes a pixel, 37 MB a layer).
   const bool several_cells = cells_.size() > 1;
+  const float fraction_lo = -dither_.fraction_tolerance, fraction_hi = 1.0f + dither_.fraction_tolerance;
   const auto owned_pixels = several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
   std::vector<int> owner(owned_pixels, -1);
   std::vector<std::uint8_t> owner_gave_material(owned_pixels, 0);
@@ -331,12 +377,21 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       st.seconds_inverse += lap(t);
       const std::size_t n = row->cols.size();
       if (n == 0) return;
-      fractions.assign(n * static_cast<std::size_t>(m), 0.0f);
+      // Every value is written by the material (MaterialFunction::evaluate_row).
+      if (fractions.size() < n * static_cast<std::size_t>(m)) fractions.resize(n * static_cast<std::size_t>(m));
       // Scene cells carry their material already wrapped in the scene's fraction policy
       // (CheckedMaterial), and dithering validates what reaches it.
-      cd.cell->material->evaluate_row(row->uvw, row->xyz, fractions);
+      cd.cell->material->evaluate_row(row->uvw, row->xyz, std::span<float>(fractions).first(n * static_cast<std::size_t>(m)));
+      auto& [first_written, last_written] = buffers->written[static_cast<std::size_t>(r)];
+      if (first_written > last_written) {
+        first_written = row->cols.front();
+        last_written = row->cols.front();
+      }
+      int fractions_ok = 1;
       for (std::size_t k = 0; k < n; ++k) {
         const int col = row->cols[k];
+        first_written = std::min(first_written, col);
+        last_written = std::max(last_written, col);
         const std::size_t at = static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col);
         inside.at(col, r) = 1;
         const float* f = fractions.data() + k * static_cast<std::size_t>(m);
@@ -350,9 +405,16 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
           owner[at] = static_cast<int>(ci);
           owner_gave_material[at] = 1;
         }
-        auto px = grid.pixel(col, r);
-        std::copy(f, f + m, px.begin());
+        float* px = grid.pixel(col, r).data();
+        for (int j = 0; j < m; ++j) {
+          px[j] = f[j];
+          fractions_ok &= static_cast<int>(f[j] >= fraction_lo) & static_cast<int>(f[j] <= fraction_hi);
+        }
+        fractions_ok &= static_cast<int>(sum <= fraction_hi);
       }
+      // The grid is checked as it is written, not again by the dithering (dither_checked_grid).
+      if (!fractions_ok)
+        for (int col : row->cols) grid.check_pixel(col, r, dither_.fraction_tolerance);
       st.seconds_material += lap(t);
     };
     if (traced_first) {
@@ -365,12 +427,21 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   }
 
   st.seconds_inverse += lap(t);
-  result.labels = dither(grid, inside, dither_, layer);
+  detail::dither_checked_grid(grid, inside, dither_, result.labels, layer);
   st.seconds_dither = lap(t);
   st.voxels_per_material.assign(static_cast<std::size_t>(m), 0);
-  for (std::uint8_t label : result.labels.values())
-    if (label != LabelImage::kVoid) ++st.voxels_per_material[static_cast<std::size_t>(label - 1)];
-  for (std::uint8_t v : inside.values()) st.pixels_inside += v;
+  // Outside the written spans every pixel is outside and void.
+  std::vector<std::int64_t> per_label(static_cast<std::size_t>(m) + 1, 0);
+  for (int r = 0; r < L.height_px; ++r) {
+    const auto [first, last] = buffers->written[static_cast<std::size_t>(r)];
+    const std::uint8_t* labels = result.labels.row(r).data();
+    const std::uint8_t* in = inside.row(r).data();
+    for (int col = first; col <= last; ++col) {
+      ++per_label[labels[col]];
+      st.pixels_inside += in[col];
+    }
+  }
+  for (int j = 0; j < m; ++j) st.voxels_per_material[static_cast<std::size_t>(j)] = per_label[static_cast<std::size_t>(j) + 1];
   st.pixels_per_cell.assign(cells_.size(), 0);
   if (several_cells) {
     for (int o : owner)
@@ -390,6 +461,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   st.folded_pixels = counters.folded;
   st.unresolved_pixels = counters.unresolved;
   if (owner_out) *owner_out = std::move(owner);
+  give_back(std::move(buffers));
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -4,12 +4,15 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <csignal>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <numeric>
+#include <span>
 #include <random>
 #include <string>
 #include <vector>
@@ -289,6 +292,46 @@ TEST_F(PngTest, WritingTwiceGivesIdenticalBytes) {
     write_png_rgba(dir_ / "b.png", image, params);
     EXPECT_EQ(file_bytes(dir_ / "a.png"), file_bytes(dir_ / "b.png"));
   }
+}
+
+TEST_F(PngTest, RowByRowWritesTheBytesOfTheWholeImage) {
+  const RgbaImage image{37, 19, random_bytes(37 * 19 * 4, 12)};
+  for (const PngWriteParams& params : {PngWriteParams{}, PngWriteParams{6, PngFilter::kAdaptive}}) {
+    write_png_rgba(dir_ / "whole.png", image, params);
+    std::vector<int> asked;
+    write_png_rgba_rows(
+        dir_ / "rows.png", image.width_px, image.height_px,
+        [&](int y, std::span<std::uint8_t> row) {
+          asked.push_back(y);
+          ASSERT_EQ(row.size(), 37u * 4);
+          std::copy_n(image.rgba.begin() + static_cast<std::ptrdiff_t>(y) * 37 * 4, 37 * 4, row.begin());
+        },
+        params);
+    EXPECT_EQ(file_bytes(dir_ / "rows.png"), file_bytes(dir_ / "whole.png"));
+    std::vector<int> in_order(19);
+    std::iota(in_order.begin(), in_order.end(), 0);
+    EXPECT_EQ(asked, in_order);
+  }
+}
+
+TEST_F(PngTest, RowSourceThatThrowsLeavesNoFileAndSaysWhy) {
+  const fs::path path = dir_ / "slice.png";
+  const RgbaImage old_image{8, 8, random_bytes(256, 13)};
+  write_png_rgba(path, old_image);
+  const std::vector<std::uint8_t> old_bytes = file_bytes(path);
+  try {
+    write_png_rgba_rows(path, 8, 8, [](int y, std::span<std::uint8_t> row) {
+      if (y == 5) throw Error("row 5 has no labels");
+      std::fill(row.begin(), row.end(), std::uint8_t{7});
+    });
+    FAIL() << "no exception";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("row 5 has no labels"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(entries(), std::vector<std::string>{"slice.png"});
+  EXPECT_EQ(file_bytes(path), old_bytes);
+  EXPECT_THROW(write_png_rgba_rows(path, 0, 8, [](int, std::span<std::uint8_t>) {}), Error);
 }
 
 TEST_F(PngTest, OverwritesAnExistingFile) {

@@ -2,10 +2,16 @@
 #include "trivox/slice/slicer.h"
 
 #include <cmath>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "slice/slice_fixtures.h"
+#include "trivox/error.h"
+#include "trivox/material/material_function.h"
 
 namespace trivox {
 namespace {
@@ -180,6 +186,98 @@ TEST(Slicer, LastCellWithMaterialWins) {
   EXPECT_EQ(label_at_x(1.5), LabelImage::label_of_material(0));
   EXPECT_EQ(label_at_x(4.5), LabelImage::label_of_material(1));
   EXPECT_EQ(label_at_x(7.5), LabelImage::label_of_material(1));
+}
+
+// Fraction 1 of material 0 below z_mm; throws for any sample above it whose y is below y_mm
+// (rows run from high y to low, so a layer above z_mm has filled some rows when it throws).
+class ThrowsHighUp final : public MaterialFunction {
+ public:
+  ThrowsHighUp(double z_mm, double y_mm) : MaterialFunction(2), z_mm_(z_mm), y_mm_(y_mm) {}
+  std::string_view kind() const noexcept override { return "throws-high-up"; }
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override {
+    for (std::size_t s = 0; s < uvw.size(); ++s) {
+      if (xyz[s].z > z_mm_ && xyz[s].y < y_mm_) throw Error("material refuses this layer");
+      fractions[2 * s] = static_cast<float>(uvw[s].x);
+      fractions[2 * s + 1] = 1.0f - static_cast<float>(uvw[s].x);
+    }
+  }
+
+ private:
+  double z_mm_, y_mm_;
+};
+
+TEST(Slicer, ALayerDoesNotDependOnTheLayersSlicedBefore) {
+  // The slicer reuses its rasters from layer to layer: a twisted column, whose outline moves
+  // from layer to layer, sliced in a scrambled order and after a layer that threw half-way,
+  // must give every layer the labels and counts a fresh slicer gives it.
+  const Volume column = test::twisted_bent_box(8, 6, 5);
+  const Box3 box = column.bounds();
+  const double z_throw = box.lo.z + 0.8 * (box.hi.z - box.lo.z);
+  const double y_throw = 0.5 * (box.lo.y + box.hi.y);
+  Cell cell{"column", "/cells/0", column, std::make_shared<ThrowsHighUp>(z_throw, y_throw)};
+  const Scene scene = test::scene_with({cell}, 2);
+  const Slicer reused(scene, {});
+  const SliceLayout& L = reused.layout();
+  int high = L.num_layers - 1;
+  while (high > 0 && L.z_of_layer(high) > box.hi.z - 0.05) --high;  // a layer through the top
+  ASSERT_GT(L.z_of_layer(high), z_throw);
+  auto layer_at = [&](double fraction) {  // the last layer below that fraction of the height
+    int layer = 0;
+    while (layer + 1 < L.num_layers && L.z_of_layer(layer + 1) < box.lo.z + fraction * (box.hi.z - box.lo.z)) ++layer;
+    return layer;
+  };
+  const int layers[] = {layer_at(0.5), 1, layer_at(0.5), layer_at(0.75), 1};
+  for (int round = 0; round < 2; ++round) {
+    for (int layer : layers) {
+      const LayerResult got = reused.slice_layer(layer);
+      const Slicer fresh(scene, {});
+      const LayerResult want = fresh.slice_layer(layer);
+      EXPECT_EQ(got.labels, want.labels) << "layer " << layer;
+      EXPECT_EQ(got.stats.pixels_inside, want.stats.pixels_inside) << "layer " << layer;
+      EXPECT_GT(got.stats.pixels_inside, 0) << "layer " << layer;
+      EXPECT_EQ(got.stats.voxels_per_material, want.stats.voxels_per_material) << "layer " << layer;
+    }
+    EXPECT_THROW(reused.slice_layer(high), Error);
+  }
+}
+
+// Gives every sample the same fractions, whatever they are (no fraction policy).
+class FixedFractions final : public MaterialFunction {
+ public:
+  explicit FixedFractions(std::vector<float> f) : MaterialFunction(static_cast<int>(f.size())), f_(std::move(f)) {}
+  std::string_view kind() const noexcept override { return "fixed"; }
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>, std::span<float> fractions) const override {
+    for (std::size_t s = 0; s < uvw.size(); ++s) std::copy(f_.begin(), f_.end(), fractions.begin() + static_cast<std::ptrdiff_t>(s * f_.size()));
+  }
+
+ private:
+  std::vector<float> f_;
+};
+
+TEST(Slicer, FractionsBeyondTheDitheringToleranceAreRefusedNamingThePixel) {
+  // The slicer checks the fractions as it writes them into the layer's grid (the dithering
+  // does not check the grid again): a material outside the scene's fraction policy is caught.
+  const Volume box = box_volume({0, 0, 0}, {4, 3, 1});
+  struct Case {
+    std::vector<float> f;
+    const char* rule;
+  };
+  for (const Case& c : {Case{{0.7f, 0.7f}, "fractions sum to 1.4"}, Case{{1.5f, 0.0f}, "fraction 1.5 is not finite"},
+                        Case{{NAN, 0.5f}, "fraction nan is not finite"}}) {
+    const Scene scene = test::scene_with({Cell{"bad", "/cells/0", box, std::make_shared<FixedFractions>(c.f)}}, 2);
+    const Slicer slicer(scene, {});
+    try {
+      (void)slicer.slice_layer(slicer.layout().num_layers / 2);
+      ADD_FAILURE() << "no error for " << c.rule;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("material grid: pixel ("), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(c.rule), std::string::npos) << e.what();
+    }
+  }
+  // Within the tolerance (1e-4 by default) the layer is sliced.
+  const Scene scene = test::scene_with({Cell{"ok", "/cells/0", box, std::make_shared<FixedFractions>(std::vector<float>{0.50004f, 0.50004f})}}, 2);
+  const Slicer slicer(scene, {});
+  EXPECT_GT(slicer.slice_layer(slicer.layout().num_layers / 2).stats.pixels_inside, 0);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -61,6 +62,14 @@ void write_png_rgba(const std::filesystem::path& path, int width_px, int height_
                     std::span<const std::uint8_t> rgba, const PngWriteParams& params = {});
 void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
                     const PngWriteParams& params = {});
+
+// Writes the same file as write_png_rgba, asking for the pixels a row at a time: `fill_row(y,
+// row)` fills row y (width_px * 4 bytes), top row first, so that the whole RGBA image never
+// exists in memory. If fill_row throws, nothing is written under `path` and the exception's
+// message is reported as an IoError.
+void write_png_rgba_rows(const std::filesystem::path& path, int width_px, int height_px,
+                         const std::function<void(int y, std::span<std::uint8_t> row)>& fill_row,
+                         const PngWriteParams& params = {});
 
 // The bytes write_png_rgba would write, in memory (for outputs that package PNGs).
 std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,

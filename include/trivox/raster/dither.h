@@ -123,4 +123,13 @@ void dither(const MaterialGrid& fractions, const InsideMask& inside, const Dithe
 LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside,
                   const DitherParams& params = {}, int layer = 0);
 
+namespace detail {
+// dither() for a grid whose filler checked every pixel it wrote with
+// MaterialGrid::check_pixel(params.fraction_tolerance) and left the others all 0: the same
+// labels without a second pass over the grid (tens of megabytes a layer at printer
+// resolution). The slicer fills its grids so.
+void dither_checked_grid(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
+                         LabelImage& labels, int layer);
+}  // namespace detail
+
 }  // namespace trivox

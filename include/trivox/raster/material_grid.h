@@ -125,6 +125,8 @@ class MaterialGrid {
   // fractions sum to more than 1 + tolerance. `tolerance` absorbs the rounding of fractions
   // computed in floating point; it must be finite and >= 0.
   void check_fractions(float tolerance) const;
+  // The same rule for pixel (x, y) alone, for a caller that checks pixels as it writes them.
+  void check_pixel(int x, int y, float tolerance) const;
 
   bool operator==(const MaterialGrid&) const = default;
 

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <vector>
 
 #include "trivox/raster/material_grid.h"
@@ -66,6 +67,9 @@ class Slicer {
  private:
   struct Trivariate;
   struct CellData;
+  struct LayerBuffers;
+  std::unique_ptr<LayerBuffers> take_buffers() const;
+  void give_back(std::unique_ptr<LayerBuffers> buffers) const;
   const Scene& scene_;
   SliceParams params_;
   DitherParams dither_;
@@ -75,6 +79,11 @@ class Slicer {
   // parametrization or a trim), then each other cell's own volume.
   std::vector<std::unique_ptr<Trivariate>> trivariates_;
   std::vector<std::unique_ptr<CellData>> cells_;
+  // The layers' material grids and inside masks, reused by the layers that follow: at
+  // printer resolution they are tens of megabytes, and fresh ones cost every layer the
+  // faulting-in and clearing of their pages. One per concurrent slice_layer call at most.
+  mutable std::mutex buffers_mutex_;
+  mutable std::vector<std::unique_ptr<LayerBuffers>> free_buffers_;
 };
 
 }  // namespace trivox
