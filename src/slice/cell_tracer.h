@@ -74,13 +74,15 @@ class CellTracer {
     std::vector<Mat3> jac;   // per column: the Jacobian near it, for prediction
     std::vector<std::uint8_t> ok;  // per column: solved
     int retry_prediction_at = 0;
+    int correct_until = -1;        // the last column whose guess adds the row above's miss
+    bool guess_corrected = false;  // whether the pending guess did
     TracedRow out;
   };
 
   void start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans);
   // The row extrapolation's guess for the row's next pixel, when it should be tried (every
   // pixel it uses solved, not backed off, the guess inside the domain).
-  bool prediction(Row& r, Vec3& guess);
+  bool prediction(Row& r, const Row* above, Vec3& guess);
   // Whether the guess's value is within the tolerance of x; records the pixel if so, else
   // backs the prediction off.
   bool accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value);
@@ -102,6 +104,8 @@ class CellTracer {
   TraceCounters counters_;
   // Row extrapolation resumes this many columns after a failed guess.
   static constexpr int kPredictionBackoff = 8;
+  // After a plain row guess misses, the next this many columns add the row above's miss.
+  static constexpr int kCorrectedRun = 32;
 };
 
 }  // namespace trivox::detail

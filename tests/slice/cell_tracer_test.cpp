@@ -3,6 +3,7 @@
 #include "slice/cell_tracer.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include <gtest/gtest.h>
 
@@ -133,6 +134,37 @@ TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
       EXPECT_EQ(r.counters.global_unseeded, sequential.counters.global_unseeded);
     }
   }
+}
+
+// After a plain row guess misses, the next guesses add the row above's own miss, so where
+// the inverse bends within a few pixels (the inner wall of an annulus) far fewer guesses
+// fail their check and go to Newton: 1.23 evaluations per inside pixel here, against 1.97
+// with the plain extrapolation alone (measured with the correction removed).
+TEST(CellTracer, TheRowAbovesMissCorrectsTheRowExtrapolation) {
+  const Volume annulus = test::annulus_sector(2.0, 10.0, 1.0);
+  const GlobalSolver solver(annulus);
+  const SliceLayout L = layout_over(annulus);
+  SliceParams params;
+  params.tracing = TracingStrategy::kFlood;
+  const double z = 0.5;
+  // The inside pixels first, then only they are traced: the count is then free of the
+  // evaluations that prove the pixels around the part outside.
+  detail::RowSpans inside(static_cast<std::size_t>(L.height_px));
+  detail::CellTracer finder(annulus, solver, params, L.width_px);
+  const detail::RowSpans whole_rows(static_cast<std::size_t>(L.height_px), {{0, L.width_px - 1}});
+  finder.trace_layer(L, z, whole_rows, [&](int row, const detail::TracedRow& traced) {
+    auto& spans = inside[static_cast<std::size_t>(row)];
+    for (int col : traced.cols)
+      if (!spans.empty() && spans.back().second == col - 1) spans.back().second = col;
+      else spans.push_back({col, col});
+  });
+  detail::CellTracer tracer(annulus, solver, params, L.width_px);
+  std::int64_t pixels = 0;
+  tracer.trace_layer(L, z, inside, [&](int, const detail::TracedRow& traced) {
+    pixels += static_cast<std::int64_t>(traced.cols.size());
+  });
+  ASSERT_GT(pixels, 5000);
+  EXPECT_LE(static_cast<double>(tracer.counters().newton_evals) / static_cast<double>(pixels), 1.5);
 }
 
 }  // namespace
