@@ -142,8 +142,9 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   vertices_.resize(grid_of.size());
   v.evaluate_many(params, vertices_);
   for (const Vec3& p : vertices_) bounds_.expand(p);
-  // Height buckets of about a millimetre-scale slab each (64 across the model).
-  const int nb = 64;
+  // Height buckets: a layer's cut tests the triangles of its bucket. About 8000 triangles a
+  // bucket (64 to 1024 buckets), so that a fine mesh is not tested whole by every layer.
+  const int nb = static_cast<int>(std::clamp<std::size_t>(triangles_.size() / 8000, 64, 1024));
   bucket_z0_ = bounds_.lo.z;
   bucket_dz_ = std::max(bounds_.size().z / nb, 1e-9);
   buckets_.assign(static_cast<std::size_t>(nb), {});
