@@ -57,6 +57,7 @@ def paper_size_duck(work):
         scene = absolute_files(json.load(f), os.path.dirname(source))
     scene.pop("$schema", None)
     scene["cells"][0]["placement"]["scale"] = PAPER_SIZE_DUCK_SCALE
+    os.makedirs(work, exist_ok=True)
     path = os.path.join(work, "duck_paper_size.json")
     with open(path, "w", encoding="utf-8") as f:
         json.dump(scene, f, indent=1)
