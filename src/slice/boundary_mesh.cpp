@@ -112,23 +112,21 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
     }
     return -1;  // not on the boundary: never asked for
   };
-  for (int fixed = 0; fixed < 3; ++fixed) {
-    const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
-    for (int side : {0, n_[static_cast<std::size_t>(fixed)] - 1}) {
-      for (int j = 1; j < n_[static_cast<std::size_t>(b)]; ++j)
-        for (int i = 1; i < n_[static_cast<std::size_t>(a)]; ++i) {
-          auto at = [&](int ii, int jj) {
-            std::array<int, 3> ijk{};
-            ijk[static_cast<std::size_t>(fixed)] = side;
-            ijk[static_cast<std::size_t>(a)] = ii;
-            ijk[static_cast<std::size_t>(b)] = jj;
-            return vertex(ijk);
-          };
-          const int q00 = at(i - 1, j - 1), q10 = at(i, j - 1), q01 = at(i - 1, j), q11 = at(i, j);
-          triangles_.push_back({q00, q10, q11});
-          triangles_.push_back({q00, q11, q01});
-        }
-    }
+  for (std::size_t face = 0; face < faces.size(); ++face) {
+    const int fixed = faces[face].fixed, side = faces[face].side, a = faces[face].a, b = faces[face].b;
+    for (int j = 1; j < n_[static_cast<std::size_t>(b)]; ++j)
+      for (int i = 1; i < n_[static_cast<std::size_t>(a)]; ++i) {
+        auto at = [&](int ii, int jj) {
+          std::array<int, 3> ijk{};
+          ijk[static_cast<std::size_t>(fixed)] = side;
+          ijk[static_cast<std::size_t>(a)] = ii;
+          ijk[static_cast<std::size_t>(b)] = jj;
+          return vertex(ijk);
+        };
+        const int q00 = at(i - 1, j - 1), q10 = at(i, j - 1), q01 = at(i - 1, j), q11 = at(i, j);
+        triangles_.push_back({q00, q10, q11});
+        triangles_.push_back({q00, q11, q01});
+      }
   }
   faces.clear();
   faces.shrink_to_fit();

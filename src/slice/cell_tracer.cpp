@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstring>
 #include <climits>
+#include <cstring>
 #include <optional>
 
 #include "inverse/newton.h"
@@ -23,8 +23,6 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
 
 namespace {
 
-// Row by row: a plain assignment of the 72-byte matrix can compile, in the tracer, to a
-// string move whose start-up cost is several times that of the nine loads and stores.
 // The solved flags of columns c - 3 to c (c >= 3), one byte each, c - 3 in the low byte:
 // one load instead of four for the predictor's test.
 inline std::uint32_t solved_flags_at(const std::uint8_t* ok, std::size_t c) noexcept {
@@ -34,6 +32,8 @@ inline std::uint32_t solved_flags_at(const std::uint8_t* ok, std::size_t c) noex
   return word;
 }
 
+// Row by row: a plain assignment of the 72-byte matrix can compile, in the tracer, to a
+// string move whose start-up cost is several times that of the nine loads and stores.
 inline void copy_jacobian(const Mat3& from, Mat3& to) noexcept {
   for (std::size_t r = 0; r < 3; ++r) {
     const double a = from.m[r][0], b = from.m[r][1], c = from.m[r][2];

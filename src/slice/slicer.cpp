@@ -380,18 +380,16 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       // Every value is written by the material (MaterialFunction::evaluate_row).
       if (fractions.size() < n * static_cast<std::size_t>(m)) fractions.resize(n * static_cast<std::size_t>(m));
       // Scene cells carry their material already wrapped in the scene's fraction policy
-      // (CheckedMaterial), and dithering validates what reaches it.
+      // (CheckedMaterial); the copy into the grid below checks what reaches the dithering.
       cd.cell->material->evaluate_row(row->uvw, row->xyz, std::span<float>(fractions).first(n * static_cast<std::size_t>(m)));
+      // A traced row's columns increase: its span is its first and last.
       auto& [first_written, last_written] = buffers->written[static_cast<std::size_t>(r)];
-      if (first_written > last_written) {
-        first_written = row->cols.front();
-        last_written = row->cols.front();
-      }
+      const bool row_unwritten = first_written > last_written;
+      first_written = row_unwritten ? row->cols.front() : std::min(first_written, row->cols.front());
+      last_written = row_unwritten ? row->cols.back() : std::max(last_written, row->cols.back());
       int fractions_ok = 1;
       for (std::size_t k = 0; k < n; ++k) {
         const int col = row->cols[k];
-        first_written = std::min(first_written, col);
-        last_written = std::max(last_written, col);
         const std::size_t at = static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col);
         inside.at(col, r) = 1;
         const float* f = fractions.data() + k * static_cast<std::size_t>(m);
