@@ -96,8 +96,13 @@ int main(int argc, char** argv) {
       sum.seconds_dither += r.stats.seconds_dither;
       sum.pixels_inside += r.stats.pixels_inside;
       sum.pixels_total += r.stats.pixels_total;
+      sum.candidates += r.stats.candidates;
       sum.global_calls += r.stats.global_calls;
       sum.newton_evals += r.stats.newton_evals;
+      sum.guesses += r.stats.guesses;
+      sum.guess_misses += r.stats.guess_misses;
+      sum.jacobian_steps += r.stats.jacobian_steps;
+      sum.slow_path_pixels += r.stats.slow_path_pixels;
     }
     std::filesystem::remove_all(out);
     sum.seconds += write_seconds;
@@ -116,6 +121,12 @@ int main(int argc, char** argv) {
                sum.seconds * ns, sum.seconds_inverse * ns, sum.seconds_material * ns, sum.seconds_dither * ns,
                write_seconds * ns,
                static_cast<double>(sum.newton_evals) / static_cast<double>(sum.pixels_inside), setup);
+    const double candidates = static_cast<double>(sum.candidates);
+    fmt::print("pixels settled (% of candidates): guesses {:.2f} (missed {:.3f}), Jacobian steps {:.3f}, slow path {:.3f}\n",
+               100.0 * static_cast<double>(sum.guesses - sum.guess_misses) / candidates,
+               100.0 * static_cast<double>(sum.guess_misses) / candidates,
+               100.0 * static_cast<double>(sum.jacobian_steps) / candidates,
+               100.0 * static_cast<double>(sum.slow_path_pixels) / candidates);
   }
   return 0;
 }

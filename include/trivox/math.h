@@ -58,6 +58,18 @@ inline bool solve3(const Mat3& J, Vec3 r, Vec3& d, double min_abs_det) noexcept 
   return true;
 }
 
+// J^-1 by the adjugate. Returns false (and leaves inv alone) when |det J| is not above
+// `min_abs_det`.
+inline bool invert3(const Mat3& J, Mat3& inv, double min_abs_det) noexcept {
+  const Vec3 c0 = J.column(0), c1 = J.column(1), c2 = J.column(2);
+  const Vec3 r0 = cross(c1, c2), r1 = cross(c2, c0), r2 = cross(c0, c1);
+  const double det = dot(c0, r0);
+  if (!(std::abs(det) > min_abs_det)) return false;
+  const double k = 1.0 / det;
+  inv.m = {{{r0.x * k, r0.y * k, r0.z * k}, {r1.x * k, r1.y * k, r1.z * k}, {r2.x * k, r2.y * k, r2.z * k}}};
+  return true;
+}
+
 // Axis-aligned box in model space; empty when lo > hi in any axis.
 struct Box3 {
   Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),

@@ -109,43 +109,58 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
   return r;
 }
 
+NewtonStepCheck check_newton_step(const Volume& volume, Vec3 x, Vec3 t, Vec3 p, const Mat3& J,
+                                  const InverseParams& params) noexcept {
+  NewtonStepCheck c;
+  // Residuals are compared squared; the root is taken once, for the result.
+  const double tol = params.residual_tolerance_model;
+  const Vec3 r0 = x - p;
+  if (dot(r0, r0) <= tol * tol) {
+    c.converged = true;
+    c.uvw = t;
+    c.residual = norm(r0);
+    return c;
+  }
+  Vec3 d;
+  if (!solve3(J, r0, d, singular_threshold(J))) return c;
+  const Vec3 target = t + d;
+  if (!volume.domain().contains(target)) return c;
+  if (const std::optional<double> bound = certified_step_residual(volume, p, J, r0, d); bound && *bound <= tol) {
+    c.converged = true;
+    c.uvw = target;
+    c.residual = *bound;
+    return c;
+  }
+  c.stepped = true;
+  c.target = target;
+  return c;
+}
+
 InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian,
                             const InverseParams& params, Mat3& jacobian) noexcept {
   const ParamBox& box = volume.domain();
-  Vec3 d;
-  Vec3 u0 = seed_uvw;
-  if (solve3(seed_jacobian, x - seed_x, d, 0.0)) u0 = box.clamp(seed_uvw + d);
+  const Vec3 u0 = predict_from_seed(box, x, seed_uvw, seed_x, seed_jacobian);
   Vec3 p;
   volume.evaluate_jacobian(u0, p, jacobian);
   InverseResult r;
   r.iterations = 1;
   r.uvw = u0;
-  // Residuals are compared squared; the root is taken once, for the result.
-  const double tol2 = params.residual_tolerance_model * params.residual_tolerance_model;
-  const Vec3 r0 = x - p;
-  if (dot(r0, r0) <= tol2) {
-    r.residual = norm(r0);
+  const NewtonStepCheck c = check_newton_step(volume, x, u0, p, jacobian, params);
+  if (c.converged) {
+    r.uvw = c.uvw;
+    r.residual = c.residual;
     r.status = InverseStatus::kConverged;
     return r;
   }
-  if (solve3(jacobian, r0, d, singular_threshold(jacobian))) {
-    const Vec3 target = u0 + d;
-    if (box.contains(target)) {
-      if (const std::optional<double> bound = certified_step_residual(volume, p, jacobian, r0, d);
-          bound && *bound <= params.residual_tolerance_model) {
-        r.uvw = target;
-        r.residual = *bound;
-        r.status = InverseStatus::kConverged;
-        return r;
-      }
-      const Vec3 r1 = x - volume.evaluate(target);
-      r.iterations = 2;
-      r.uvw = target;
-      if (dot(r1, r1) <= tol2) {
-        r.residual = norm(r1);
-        r.status = InverseStatus::kConverged;
-        return r;
-      }
+  if (c.stepped) {
+    const Vec3 r1 = x - volume.evaluate(c.target);
+    r.iterations = 2;
+    r.uvw = c.target;
+    const double tol = params.residual_tolerance_model;
+    if (dot(r1, r1) <= tol * tol) {
+      r.residual = norm(r1);
+      r.status = InverseStatus::kConverged;
+      return r;
     }
   }
   InverseResult full = newton_in_box(volume, x, r.uvw, box, params);

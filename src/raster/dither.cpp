@@ -209,6 +209,13 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
       for (std::size_t c = 0; c < num_components; ++c)
         e[c] -= kDitherFixedOne & -static_cast<std::int32_t>(static_cast<std::int32_t>(c) == best);
 
+      // A pixel whose choice matches its desire exactly (a pure material with no error
+      // received, the common case inside a part of pure materials) has nothing to diffuse:
+      // every receiver would add zero.
+      std::int32_t any_error = 0;
+      for (std::size_t c = 0; c < num_components; ++c) any_error |= e[c];
+      if (any_error == 0) continue;
+
       // Inside the part, every tap receives: the receivers then follow from x alone, so the
       // common case is decided first and its pointers stay in registers.
       bool all_receive = true;

@@ -18,29 +18,22 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
   newton_evals += o.newton_evals;
   folded += o.folded;
   unresolved += o.unresolved;
+  guesses += o.guesses;
+  guess_misses += o.guess_misses;
+  jacobian_steps += o.jacobian_steps;
+  slow_path += o.slow_path;
   return *this;
 }
 
 namespace {
 
-// The solved flags of columns c - 3 to c (c >= 3), one byte each, c - 3 in the low byte:
-// one load instead of four for the predictor's test.
-inline std::uint32_t solved_flags_at(const std::uint8_t* ok, std::size_t c) noexcept {
+// The solved flags of columns c - 4 to c - 1 (c >= 4), one byte each, c - 4 in the low byte:
+// one load instead of four for the guess's test.
+inline std::uint32_t solved_flags_before(const std::uint8_t* ok, std::size_t c) noexcept {
   std::uint32_t word;
-  std::memcpy(&word, ok + c - 3, sizeof word);
+  std::memcpy(&word, ok + c - 4, sizeof word);
   if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap32(word);
   return word;
-}
-
-// Row by row: a plain assignment of the 72-byte matrix can compile, in the tracer, to a
-// string move whose start-up cost is several times that of the nine loads and stores.
-inline void copy_jacobian(const Mat3& from, Mat3& to) noexcept {
-  for (std::size_t r = 0; r < 3; ++r) {
-    const double a = from.m[r][0], b = from.m[r][1], c = from.m[r][2];
-    to.m[r][0] = a;
-    to.m[r][1] = b;
-    to.m[r][2] = c;
-  }
 }
 
 }  // namespace
@@ -50,13 +43,20 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
     : volume_(volume),
       solver_(solver),
       params_(params),
+      predicts_(params.tracing == TracingStrategy::kPredict || params.tracing == TracingStrategy::kFlood),
       width_(width_px),
       rows_in_flight_(std::max(1, rows_in_flight)),
       ring_(static_cast<std::size_t>(rows_in_flight_) + 1) {
+  const auto w = static_cast<std::size_t>(width_px);
   for (Row& r : ring_) {
-    r.uvw.resize(static_cast<std::size_t>(width_px));
-    r.jac.resize(static_cast<std::size_t>(width_px));
-    r.ok.assign(static_cast<std::size_t>(width_px), 0);
+    r.uvw.resize(w);
+    r.ok.assign(w, 0);
+    r.jac_of.resize(w);
+    r.jac.resize(w);
+    r.jac_inverse.resize(w);
+    r.out.cols.reserve(w);
+    r.out.uvw.reserve(w);
+    r.out.xyz.reserve(w);
   }
 }
 
@@ -71,9 +71,8 @@ void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::
   if (r.span == spans.size()) r.done = true;
   else r.col = spans[r.span].first;
   std::fill(r.ok.begin(), r.ok.end(), 0);
-  r.retry_prediction_at = 0;
-  r.correct_until = -1;
-  r.guess_corrected = false;
+  r.jacobian_until = 0;
+  r.check_pending = false;
   r.out.cols.clear();
   r.out.uvw.clear();
   r.out.xyz.clear();
@@ -81,7 +80,8 @@ void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::
 
 Vec3 CellTracer::centre(const Row& r) const noexcept { return {layout_->x_of_col(r.col), r.y_mm, z_mm_}; }
 
-void CellTracer::advance(Row& r) {
+inline void CellTracer::advance(Row& r) {
+  ++counters_.candidates;
   const auto& spans = *r.spans;
   if (r.col < spans[r.span].second) {
     ++r.col;
@@ -93,78 +93,118 @@ void CellTracer::advance(Row& r) {
   else r.col = spans[r.span].first;
 }
 
-void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed) {
+inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {
   const auto c = static_cast<std::size_t>(r.col);
   r.ok[c] = 1;
   r.uvw[c] = seed;
+  r.jac_of[c] = jacobian_column;
   ++counters_.inside;
   r.out.cols.push_back(r.col);
   r.out.uvw.push_back(uvw);
   r.out.xyz.push_back(x);
 }
 
-// Along a row the inverse map is smooth: the quadratic through the last three solutions
-// predicts the next one to O(pitch^3), usually within the residual tolerance, so a single
-// value-only evaluation settles the pixel. Where the map bends too fast for it (small or
-// strongly curved cells), a failed guess costs an evaluation, so after a corrected guess
-// (below) fails the next few pixels go straight to Newton.
-//
-// Where the row above is solved at the same four columns, its own extrapolation's miss is
-// known there, and this row's miss is nearly the same (the two differ by one row pitch's
-// change of the third difference): adding it corrects the guess to O(pitch^3 x row pitch).
-// On the paper-size duck that halves the guesses that miss; but where the plain guess
-// rarely misses the correction only costs time (and misses slightly more often on knot
-// lines that cross the rows at a slant), so it is used for a stretch of the row after a
-// plain guess missed (docs/PERFORMANCE.md).
-bool CellTracer::prediction(Row& r, const Row* above, Vec3& guess) {
-  const TracingStrategy s = params_.tracing;
-  if (s != TracingStrategy::kPredict && s != TracingStrategy::kFlood) return false;
-  const int col = r.col;
-  const auto c = static_cast<std::size_t>(col);
-  if (col < 3 || col < r.retry_prediction_at || (solved_flags_at(r.ok.data(), c) & 0x00ffffffu) != 0x00010101u) return false;
-  guess = 3.0 * (r.uvw[c - 1] - r.uvw[c - 2]) + r.uvw[c - 3];
-  r.guess_corrected = col <= r.correct_until && above != nullptr && solved_flags_at(above->ok.data(), c) == 0x01010101u;
-  if (r.guess_corrected) {
-    const std::vector<Vec3>& a = above->uvw;
-    guess = guess + ((a[c] - a[c - 3]) - 3.0 * (a[c - 1] - a[c - 2]));
-  }
-  if (!volume_.domain().contains(guess)) {
-    r.retry_prediction_at = col + kPredictionBackoff;
-    return false;
-  }
-  return true;
+void CellTracer::keep_jacobian(Row& r, std::size_t c) {
+  // A singular Jacobian gives the seeds no correction (the zero matrix).
+  if (!invert3(r.jac[c], r.jac_inverse[c], 0.0)) r.jac_inverse[c] = Mat3{};
 }
 
-bool CellTracer::accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value) {
+// Along a row the inverse map is smooth: the cubic through the last four solutions predicts
+// the next one to O(pitch^4), usually within the residual tolerance, so a single value-only
+// evaluation settles the pixel. Where the map bends too fast for it (small or strongly
+// curved cells, knot lines of a C1 volume), the guess misses by a little more than the
+// tolerance; the Jacobian step from the same guess then settles the pixel with one
+// evaluation of V and J, and the next few pixels take that step straight away. A pixel with
+// fewer than four solved pixels to its left starts from the first-order prediction of its
+// first solved neighbour (the slow path's first seed), a Jacobian step as well.
+inline CellTracer::Step CellTracer::plan(const Row& r, const Row* above, Vec3 x, Vec3& at) const {
+  if (!predicts_) return Step::kSlow;
+  if (r.check_pending) {
+    at = r.check_at;
+    return Step::kCheck;
+  }
+  const int col = r.col;
+  const auto c = static_cast<std::size_t>(col);
+  if (col >= 4 && solved_flags_before(r.ok.data(), c) == 0x01010101u) {
+    const Vec3* u = r.uvw.data() + c;
+    at = 4.0 * (u[-1] + u[-3]) - 6.0 * u[-2] - u[-4];
+    if (volume_.domain().contains(at)) return col < r.jacobian_until ? Step::kJacobian : Step::kGuess;
+  }
+  const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
+  auto from = [&](const Row& n, std::size_t k, Vec3 seed_x) {
+    at = predict_from_seed(volume_.domain(), x, n.uvw[k], seed_x, n.jac[static_cast<std::size_t>(n.jac_of[k])]);
+    return Step::kJacobian;
+  };
+  if (col > 0 && r.ok[c - 1]) return from(r, c - 1, x - Vec3{dx, 0, 0});
+  if (above != nullptr) {
+    if (above->ok[c]) return from(*above, c, x + Vec3{0, dy, 0});
+    if (col > 0 && above->ok[c - 1]) return from(*above, c - 1, x + Vec3{-dx, dy, 0});
+    if (col + 1 < width_ && above->ok[c + 1]) return from(*above, c + 1, x + Vec3{dx, dy, 0});
+  }
+  return Step::kSlow;
+}
+
+inline bool CellTracer::accept_guess(Row& r, Vec3 x, Vec3 guess, Vec3 value) {
   ++counters_.newton_evals;
+  ++counters_.guesses;
   const Vec3 residual = x - value;
   const double tol = params_.newton.residual_tolerance_model;
   if (!(dot(residual, residual) <= tol * tol)) {  // squared: no root per pixel
-    // A plain guess that misses hands the next pixels to the corrected guess; a corrected
-    // one that misses, to Newton for a few pixels.
-    if (r.guess_corrected) r.retry_prediction_at = r.col + kPredictionBackoff;
-    else r.correct_until = r.col + kCorrectedRun;
+    ++counters_.guess_misses;
+    r.jacobian_until = r.col + kJacobianRun;
     return false;
   }
-  const auto c = static_cast<std::size_t>(r.col);
-  // The neighbour's Jacobian is still a good predictor for the next row.
-  const Mat3& jacobian = r.jac[c - 1];
-  copy_jacobian(jacobian, r.jac[c]);
-  // The extrapolation weighs the last solutions by 3, -3, 1, so their errors (up to the
+  // The extrapolation weighs the last solutions by 4, -6, 4, -1, so their errors (up to the
   // tolerance) would grow along the row. The seed kept for the next pixels takes a Newton
   // step with the neighbour's Jacobian: no evaluation, and it shrinks that error by the
-  // Jacobian's change over a pixel. The pixel's own answer stays the checked `guess`.
-  Vec3 seed = guess, step;
-  if (solve3(jacobian, residual, step, 0.0)) seed = guess + step;
-  record(r, x, guess, seed);
+  // Jacobian's change since it was evaluated. The pixel's own answer stays the checked guess.
+  const int jacobian_column = r.jac_of[static_cast<std::size_t>(r.col) - 1];
+  record(r, x, guess, guess + r.jac_inverse[static_cast<std::size_t>(jacobian_column)] * residual, jacobian_column);
   return true;
 }
 
+bool CellTracer::finish_jacobian_step(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value, const Mat3& jacobian) {
+  ++counters_.newton_evals;
+  ++counters_.jacobian_steps;
+  const auto c = static_cast<std::size_t>(r.col);
+  const NewtonStepCheck check = check_newton_step(volume_, x, at, value, jacobian, params_.newton);
+  if (check.converged) {
+    r.jac[c] = jacobian;
+    keep_jacobian(r, c);
+    // As for a guess, an answer that needed no step keeps the step as its seed.
+    const Vec3 seed = check.uvw == at ? at + r.jac_inverse[c] * (x - value) : check.uvw;
+    record(r, x, check.uvw, seed, r.col);
+    return true;
+  }
+  if (check.stepped) {
+    r.jac[c] = jacobian;
+    r.check_pending = true;
+    r.check_at = check.target;
+    return false;
+  }
+  solve_from_neighbours(r, above, x);
+  return true;
+}
+
+void CellTracer::finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value) {
+  ++counters_.newton_evals;
+  r.check_pending = false;
+  const Vec3 residual = x - value;
+  const double tol = params_.newton.residual_tolerance_model;
+  if (dot(residual, residual) <= tol * tol) {
+    const auto c = static_cast<std::size_t>(r.col);
+    keep_jacobian(r, c);
+    record(r, x, at, at, r.col);
+    return;
+  }
+  solve_from_neighbours(r, above, x);
+}
+
 void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
+  ++counters_.slow_path;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
   const TracingStrategy s = params_.tracing;
-  const bool predicts = s == TracingStrategy::kPredict || s == TracingStrategy::kFlood;
   // Seeds in the order the strategy allows (Table 1 of the paper): the neighbour's solution,
   // Jacobian and pixel centre.
   struct Seed {
@@ -175,12 +215,14 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   Seed seeds[6];
   int n = 0;
   const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
-  const bool eight_neighbours = s == TracingStrategy::kFull || predicts;
+  const bool eight_neighbours = s == TracingStrategy::kFull || predicts_;
   auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
   auto above_seed = [&](int k, Vec3 at) {
-    return Seed{&above->uvw[static_cast<std::size_t>(k)], &above->jac[static_cast<std::size_t>(k)], at};
+    const auto kk = static_cast<std::size_t>(k);
+    return Seed{&above->uvw[kk], &above->jac[static_cast<std::size_t>(above->jac_of[kk])], at};
   };
-  if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = {&r.uvw[c - 1], &r.jac[c - 1], x - Vec3{dx, 0, 0}};
+  auto own_seed = [&](std::size_t k, Vec3 at) { return Seed{&r.uvw[k], &r.jac[static_cast<std::size_t>(r.jac_of[k])], at}; };
+  if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = own_seed(c - 1, x - Vec3{dx, 0, 0});
   if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && above_ok(col)) seeds[n++] = above_seed(col, x + Vec3{0, dy, 0});
   if (eight_neighbours) {
     if (col > 0 && above_ok(col - 1)) seeds[n++] = above_seed(col - 1, x + Vec3{-dx, dy, 0});
@@ -201,8 +243,7 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
     }
     for (int k = 2; k <= kFloodReach && col - k >= 0; ++k)
       if (r.ok[c - static_cast<std::size_t>(k)]) {
-        const auto from = c - static_cast<std::size_t>(k);
-        seeds[n++] = {&r.uvw[from], &r.jac[from], x - Vec3{k * dx, 0, 0}};
+        seeds[n++] = own_seed(c - static_cast<std::size_t>(k), x - Vec3{k * dx, 0, 0});
         break;
       }
   }
@@ -212,7 +253,8 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
         invert_traced(volume_, x, *seeds[i].uvw, seeds[i].x, *seeds[i].jac, params_.newton, r.jac[c]);
     counters_.newton_evals += res.iterations;
     if (res.status == InverseStatus::kConverged) {
-      record(r, x, res.uvw, res.uvw);
+      keep_jacobian(r, c);
+      record(r, x, res.uvw, res.uvw, col);
       return;
     }
     if (res.status == InverseStatus::kOutside) {
@@ -239,7 +281,8 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   const Vec3 uvw = g.preimages.front().uvw;
   Vec3 unused;
   volume_.evaluate_jacobian(uvw, unused, r.jac[c]);
-  record(r, x, uvw, uvw);
+  keep_jacobian(r, c);
+  record(r, x, uvw, uvw, col);
 }
 
 void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
@@ -259,48 +302,76 @@ void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSp
     return q > 0 && rows[q - 1] == rows[q] - 1 ? &slot(q - 1) : nullptr;
   };
 
+  // The pixels the rows in flight have ready (at most one each), evaluated together:
+  // guesses by value only, Jacobian steps with their Jacobians.
   struct Pending {
     Row* row;
     const Row* above;
     Vec3 x;
+    bool check = false;  // in the value batch: a Jacobian step's end, not a guess
   };
-  std::vector<Pending> pending;
-  std::vector<Vec3> guesses, values;
-  pending.reserve(ring_.size());
+  const auto most = static_cast<std::size_t>(rows_in_flight_);
+  std::vector<Pending> guessing(most), stepping(most);
+  std::vector<Vec3> guess_at(most), guess_value(most), step_at(most), step_value(most);
+  std::vector<Mat3> step_jacobian(most);
   std::size_t oldest = 0, next = 0;
   while (oldest < total) {
-    while (next < total && next < oldest + static_cast<std::size_t>(rows_in_flight_)) {
+    while (next < total && next < oldest + most) {
       const int row = rows[next];
       start_row(slot(next), row, layout.y_of_row(row), spans[static_cast<std::size_t>(row)]);
       ++next;
     }
-    // Each row in flight solves pixels until one needs its row prediction evaluated (then
-    // waits for the batch) or until it would read a pixel of the row above not solved yet.
-    pending.clear();
-    guesses.clear();
+    // Each row in flight settles pixels on the slow path until one is ready for the batch
+    // or until it would read a pixel of the row above not solved yet.
+    std::size_t guesses = 0, steps = 0;
     for (std::size_t q = oldest; q < next; ++q) {
       Row& r = slot(q);
       const Row* above = above_of(q);
       const int limit = above == nullptr || above->done ? INT_MAX : above->col - kFloodReach - 1;
       while (!r.done && r.col <= limit) {
-        ++counters_.candidates;
         const Vec3 x = centre(r);
-        Vec3 guess;
-        if (prediction(r, above, guess)) {
-          pending.push_back({&r, above, x});
-          guesses.push_back(guess);
+        Vec3 at;
+        const Step step = plan(r, above, x, at);
+        if (step == Step::kGuess || step == Step::kCheck) {
+          // Field by field: an aggregate copy can be stored in halves and loaded whole, which
+          // stalls the load until the stores retire.
+          Pending& p = guessing[guesses];
+          p.row = &r;
+          p.above = above;
+          p.x = x;
+          p.check = step == Step::kCheck;
+          guess_at[guesses++] = at;
+          break;
+        }
+        if (step == Step::kJacobian) {
+          Pending& p = stepping[steps];
+          p.row = &r;
+          p.above = above;
+          p.x = x;
+          step_at[steps++] = at;
           break;
         }
         solve_from_neighbours(r, above, x);
         advance(r);
       }
     }
-    values.resize(guesses.size());
-    volume_.evaluate_many(guesses, values);
-    for (std::size_t i = 0; i < pending.size(); ++i) {
-      Row& r = *pending[i].row;
-      if (!accept_prediction(r, pending[i].x, guesses[i], values[i])) solve_from_neighbours(r, pending[i].above, pending[i].x);
-      advance(r);
+    volume_.evaluate_many(std::span(guess_at).first(guesses), std::span(guess_value).first(guesses));
+    volume_.evaluate_jacobian_many(std::span(step_at).first(steps), std::span(step_value).first(steps),
+                                   std::span(step_jacobian).first(steps));
+    // A guess that misses stays the row's next pixel, its Jacobian step in the next batch;
+    // so does a Jacobian step whose end is to be checked.
+    for (std::size_t i = 0; i < guesses; ++i) {
+      const Pending& p = guessing[i];
+      if (p.check) {
+        finish_check(*p.row, p.above, p.x, guess_at[i], guess_value[i]);
+        advance(*p.row);
+      } else if (accept_guess(*p.row, p.x, guess_at[i], guess_value[i])) {
+        advance(*p.row);
+      }
+    }
+    for (std::size_t i = 0; i < steps; ++i) {
+      const Pending& p = stepping[i];
+      if (finish_jacobian_step(*p.row, p.above, p.x, step_at[i], step_value[i], step_jacobian[i])) advance(*p.row);
     }
     while (oldest < next && slot(oldest).done) {
       const Row& r = slot(oldest);

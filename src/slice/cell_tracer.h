@@ -5,10 +5,20 @@
 // Along a row each pixel starts from its left neighbours, so one row is a chain of dependent
 // evaluations that leaves most of a core idle. The tracer therefore walks several rows at
 // once, each a fixed number of columns behind the row above (every pixel reads the row above
-// only up to kFloodReach columns ahead), and evaluates their row predictions together
-// (Volume::evaluate_many). Each pixel sees exactly the solved neighbours it would see if the
-// rows were traced one after the other, so the answers do not depend on how many rows are in
-// flight: one row at a time is the sequential reference the tests compare against.
+// only up to kFloodReach columns ahead), and evaluates the pixels they have ready together
+// (Volume::evaluate_many, evaluate_jacobian_many). Each pixel sees exactly the solved
+// neighbours it would see if the rows were traced one after the other, so the answers do not
+// depend on how many rows are in flight: one row at a time is the sequential reference the
+// tests compare against.
+//
+// The predicting strategies (predict, flood) settle a pixel in one of three ways:
+//   - a guess by the row's extrapolation, checked by one value-only evaluation (most pixels);
+//   - a Jacobian step: a guess evaluated with its Jacobian, accepted when it or the Newton
+//     step from it is certified by Taylor's remainder (after a guess missed, for the next
+//     kJacobianRun pixels, and where the extrapolation has too few solved pixels);
+//   - the slow path: Newton from the solved neighbours in turn, then the global solver (no
+//     neighbour solved, or the Jacobian step not certified).
+// The other strategies (the paper's Table 1) take the slow path for every pixel.
 #pragma once
 
 #include <cstdint>
@@ -26,9 +36,13 @@ struct TraceCounters {
   std::int64_t inside = 0;         // pixels whose inverse lies in the domain
   std::int64_t global_calls = 0;   // global solves
   std::int64_t global_unseeded = 0;  // of which for a pixel with no solved neighbour to start from
-  std::int64_t newton_evals = 0;   // evaluations of V and J by Newton
+  std::int64_t newton_evals = 0;   // evaluations of V (with or without J) by the tracer and Newton
   std::int64_t folded = 0;         // pixels with several regular preimages (fold)
   std::int64_t unresolved = 0;     // global solver ran out of budget
+  std::int64_t guesses = 0;        // extrapolated guesses checked by a value-only evaluation
+  std::int64_t guess_misses = 0;   // of which missed the tolerance
+  std::int64_t jacobian_steps = 0;   // pixels evaluated with their Jacobian in a batch
+  std::int64_t slow_path = 0;        // pixels settled by Newton from each neighbour in turn, then the global solver
 
   TraceCounters& operator+=(const TraceCounters& o) noexcept;
 };
@@ -59,10 +73,13 @@ class CellTracer {
 
   // Pixels of the row above that a pixel may read as seeds, ahead of its own column.
   static constexpr int kFloodReach = 64;
+  // After a guess misses, the row's next this many pixels (the missed one included) take the
+  // Jacobian step instead of a guess.
+  static constexpr int kJacobianRun = 4;
 
  private:
   // One row being traced: its candidates, the solutions so far (seeds for the pixels to the
-  // right and for the row below) and the predictor's state.
+  // right and for the row below) and the Jacobians they were predicted with.
   struct Row {
     int row = -1;
     double y_mm = 0;
@@ -70,42 +87,50 @@ class CellTracer {
     std::size_t span = 0;
     int col = 0;        // the next candidate
     bool done = true;
-    std::vector<Vec3> uvw;   // per column: the seed kept for later pixels
-    std::vector<Mat3> jac;   // per column: the Jacobian near it, for prediction
-    std::vector<std::uint8_t> ok;  // per column: solved
-    int retry_prediction_at = 0;
-    int correct_until = -1;        // the last column whose guess adds the row above's miss
-    bool guess_corrected = false;  // whether the pending guess did
+    std::vector<Vec3> uvw;             // per column: the seed kept for later pixels
+    std::vector<std::uint8_t> ok;      // per column: solved
+    std::vector<std::int32_t> jac_of;  // per solved column: the column of `jac` holding its Jacobian
+    std::vector<Mat3> jac;             // at the columns where a Jacobian was evaluated
+    std::vector<Mat3> jac_inverse;     // and its inverse (zero where J is singular)
+    int jacobian_until = 0;            // columns before it take the Jacobian step
+    bool check_pending = false;        // the next pixel's Jacobian step needs its end evaluated
+    Vec3 check_at;                     // that end
     TracedRow out;
   };
 
-  void start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans);
-  // The row extrapolation's guess for the row's next pixel, when it should be tried (every
-  // pixel it uses solved, not backed off, the guess inside the domain).
-  bool prediction(Row& r, const Row* above, Vec3& guess);
-  // Whether the guess's value is within the tolerance of x; records the pixel if so, else
-  // backs the prediction off.
-  bool accept_prediction(Row& r, Vec3 x, Vec3 guess, Vec3 value);
+  // How a row's next pixel is settled, and the parameter it is evaluated at: a guess, the end
+  // of a Jacobian step that could not be certified (checked by its value), a Jacobian step,
+  // or the slow path.
+  enum class Step { kGuess, kCheck, kJacobian, kSlow };
+  Step plan(const Row& r, const Row* above, Vec3 x, Vec3& at) const;
+  // A guess's value within the tolerance of x: recorded. Else the row turns to Jacobian steps.
+  bool accept_guess(Row& r, Vec3 x, Vec3 guess, Vec3 value);
+  // A Jacobian step's outcome: recorded when certified; when its step could not be certified
+  // (no second-derivative bounds, as for a rational volume) the step's end is checked next,
+  // in a batch (returns false: the pixel is not settled yet); else the slow path.
+  bool finish_jacobian_step(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value, const Mat3& jacobian);
+  // The checked end of a Jacobian step: recorded when within the tolerance, else the slow path.
+  void finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value);
   // Newton from the solved neighbours in `r` and the row above (`above`, or none), then the
   // global solver; records the pixel if it lies in the cell.
   void solve_from_neighbours(Row& r, const Row* above, Vec3 x);
-  void record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed);
+  void start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans);
+  void record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column);
+  // r.jac[c] was just evaluated: keeps its inverse for the seeds of the guesses after it.
+  void keep_jacobian(Row& r, std::size_t c);
   void advance(Row& r);
   Vec3 centre(const Row& r) const noexcept;
 
   const Volume& volume_;
   const GlobalSolver& solver_;
   const SliceParams& params_;
+  bool predicts_;  // the strategy guesses and takes Jacobian steps
   int width_;
   int rows_in_flight_;
   double z_mm_ = 0;
   const SliceLayout* layout_ = nullptr;  // during trace_layer
   std::vector<Row> ring_;  // rows_in_flight + 1 slots: the rows in flight and the one above them
   TraceCounters counters_;
-  // Row extrapolation resumes this many columns after a failed guess.
-  static constexpr int kPredictionBackoff = 8;
-  // After a plain row guess misses, the next this many columns add the row above's miss.
-  static constexpr int kCorrectedRun = 32;
 };
 
 }  // namespace trivox::detail

@@ -346,7 +346,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
     layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"seconds_inverse", s.seconds_inverse}, {"seconds_material", s.seconds_material}, {"seconds_dither", s.seconds_dither}, {"pixels_total", s.pixels_total},
                       {"pixels_inside", s.pixels_inside}, {"candidates", s.candidates}, {"global_calls", s.global_calls},
                       {"global_share_percent", share}, {"global_unseeded", s.global_unseeded}, {"newton_evals", s.newton_evals},
-                      {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},
+                      {"guesses", s.guesses}, {"guess_misses", s.guess_misses}, {"jacobian_steps", s.jacobian_steps},
+                      {"slow_path_pixels", s.slow_path_pixels}, {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},
                       {"voxels_per_material", s.voxels_per_material}, {"pixels_per_cell", s.pixels_per_cell}});
     total.pixels_total += s.pixels_total;
     total.pixels_inside += s.pixels_inside;
@@ -354,6 +355,10 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
     total.global_calls += s.global_calls;
     total.global_unseeded += s.global_unseeded;
     total.newton_evals += s.newton_evals;
+    total.guesses += s.guesses;
+    total.guess_misses += s.guess_misses;
+    total.jacobian_steps += s.jacobian_steps;
+    total.slow_path_pixels += s.slow_path_pixels;
     total.folded_pixels += s.folded_pixels;
     total.unresolved_pixels += s.unresolved_pixels;
     time_sum += s.seconds;
@@ -389,7 +394,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
         {"candidates", total.candidates}, {"global_calls", total.global_calls},
         {"global_share_percent", total.pixels_inside > 0 ? 100.0 * static_cast<double>(total.global_calls) / static_cast<double>(total.pixels_inside) : 0.0},
         {"global_unseeded", total.global_unseeded}, {"newton_evals", total.newton_evals},
-        {"folded_pixels", total.folded_pixels},
+        {"guesses", total.guesses}, {"guess_misses", total.guess_misses}, {"jacobian_steps", total.jacobian_steps},
+        {"slow_path_pixels", total.slow_path_pixels}, {"folded_pixels", total.folded_pixels},
         {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material},
         {"pixels_per_cell", total.pixels_per_cell}}},
       {"layers", layers}};

@@ -456,6 +456,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   st.global_calls = counters.global_calls;
   st.global_unseeded = counters.global_unseeded;
   st.newton_evals = counters.newton_evals;
+  st.guesses = counters.guesses;
+  st.guess_misses = counters.guess_misses;
+  st.jacobian_steps = counters.jacobian_steps;
+  st.slow_path_pixels = counters.slow_path;
   st.folded_pixels = counters.folded;
   st.unresolved_pixels = counters.unresolved;
   if (owner_out) *owner_out = std::move(owner);

@@ -275,6 +275,43 @@ TEST(DitherTest, MatchesReferenceBitForBit) {
   EXPECT_LT(worst_error, 8 * std::int64_t{kDitherFixedOne});
 }
 
+// Blocks of pure material with graded seams between them (the porous tiles of the paper's
+// duck): inside a block a pixel's choice meets its desire exactly and it has no error to pass
+// on, which the fast path skips; across a seam the error flows again. Both bit for bit the
+// reference.
+TEST(DitherTest, PureBlocksMatchReferenceBitForBit) {
+  std::mt19937 rng(8u);
+  int exact_pixels = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int w = uniform_int(rng, 20, 120), h = uniform_int(rng, 10, 60), m = uniform_int(rng, 1, 4);
+    const int block = uniform_int(rng, 3, 12), seam = uniform_int(rng, 0, 3);
+    MaterialGrid grid(w, h, m);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int bx = x / block, by = y / block;
+        const int material = (bx + 2 * by) % (m + 1);  // m: a void block
+        const bool in_seam = x % block < seam;
+        if (in_seam) {
+          for (int k = 0; k < m; ++k) grid.at(x, y, k) = 0.7f / static_cast<float>(m);
+        } else if (material < m) {
+          grid.at(x, y, material) = 1.0f;
+          ++exact_pixels;
+        }
+      }
+    const InsideMask mask = random_mask(rng, w, h);
+    DitherParams params;
+    params.serpentine = trial % 2 == 0;
+    params.kernel = static_cast<DiffusionKernel>(trial % 3);
+    const int layer = trial % 4;
+    const LabelImage fast = dither(grid, mask, params, layer);
+    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine, params.kernel,
+                                                 detail::scan_orientation(layer, params.vary_by_layer));
+    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m << ", block " << block
+                                << ", seam " << seam;
+  }
+  EXPECT_GT(exact_pixels, 10000);
+}
+
 TEST(DitherTest, LabelsAreMaterialsOrVoid) {
   std::mt19937 rng(7u);
   for (int m : {1, 2, 3, 6, 17}) {

@@ -123,6 +123,29 @@ TEST(SliceJob, StatsListThePixelsOfEveryCell) {
   EXPECT_EQ(total[0] + total[1], stats["total"].at("pixels_inside").get<long>());
 }
 
+// stats.json: how the tracer settled each candidate pixel. Every candidate is settled once,
+// by a guess that hit, a Jacobian step or the slow path (a Jacobian step that cannot settle
+// its pixel hands it to the slow path, so those two may count a pixel both), and every
+// evaluation is counted.
+TEST(SliceJob, StatsSayHowThePixelsWereSettled) {
+  const Scene scene = two_material_scene();
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fresh_dir("settled");
+  p.min_layers = 0;
+  run_slice_job(slicer, p);
+  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  for (const auto& s : {stats.at("total"), stats.at("layers").at(0)}) {
+    const long candidates = s.at("candidates"), guesses = s.at("guesses"), misses = s.at("guess_misses"),
+               steps = s.at("jacobian_steps"), slow = s.at("slow_path_pixels"), evals = s.at("newton_evals");
+    EXPECT_LE(misses, guesses);
+    EXPECT_LE(guesses - misses + slow, candidates);
+    EXPECT_GE(guesses - misses + steps + slow, candidates);
+    EXPECT_GE(evals, guesses + steps);
+  }
+  EXPECT_GT(stats["total"].at("guesses").get<long>(), stats["total"].at("candidates").get<long>() / 2);
+}
+
 // The scene's dithering applies unless the slice parameters give their own.
 TEST(SliceJob, SceneDitheringAppliesUnlessOverridden) {
   Scene scene = two_material_scene();

@@ -109,6 +109,35 @@ TEST(Volume, EvaluateManyIsBitIdenticalToSinglePoints) {
       }
 }
 
+// The tracer evaluates its Jacobian steps in batches: each point's value and Jacobian must be
+// those of evaluate_jacobian, whatever the batch's size (groups of four, then three, two, one).
+TEST(Volume, EvaluateJacobianManyIsBitIdenticalToSinglePoints) {
+  std::mt19937 rng(12);
+  VolumeOptions de_boor;
+  de_boor.power_form = false;
+  const std::vector<TensorSpline> splines = {test::random_rational_spline(rng), discontinuous_spline(rng),
+                                             test::twisted_bent_box(3, 2, 1).spline()};
+  for (const TensorSpline& s : splines)
+    for (const Volume& v : {Volume(s), Volume(s, de_boor)})
+      for (std::size_t count = 0; count <= 9; ++count) {
+        std::vector<Vec3> t(count);
+        for (Vec3& p : t) p = random_param(rng, v.domain());
+        if (count > 2) t[1][0] = v.spline().knots(0).knots()[4];  // on a breakpoint or an end
+        std::vector<Vec3> values(count);
+        std::vector<Mat3> jacobians(count);
+        v.evaluate_jacobian_many(t, values, jacobians);
+        for (std::size_t i = 0; i < count; ++i) {
+          Vec3 q;
+          Mat3 J;
+          v.evaluate_jacobian(t[i], q, J);
+          for (int c = 0; c < 3; ++c) EXPECT_EQ(values[i][c], q[c]) << "count " << count << " point " << i;
+          for (std::size_t r = 0; r < 3; ++r)
+            for (std::size_t c = 0; c < 3; ++c)
+              EXPECT_EQ(jacobians[i].m[r][c], J.m[r][c]) << "count " << count << " point " << i;
+        }
+      }
+}
+
 TEST(Volume, PowerFormFallsBackToDeBoor) {
   std::mt19937 rng(3);
   // Beyond the memory cap.

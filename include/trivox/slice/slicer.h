@@ -26,7 +26,11 @@ struct LayerStats {
   std::int64_t candidates = 0;         // pixels inverted (inside the widened outlines)
   std::int64_t global_calls = 0;       // global solves
   std::int64_t global_unseeded = 0;    // of which for a pixel no solved neighbour could seed
-  std::int64_t newton_evals = 0;       // evaluations of V and J in Newton iterations
+  std::int64_t newton_evals = 0;       // evaluations of V (with or without J) by tracing and Newton
+  std::int64_t guesses = 0;            // row guesses checked by one value (SLICING.md, tracing)
+  std::int64_t guess_misses = 0;       // of which missed the residual tolerance
+  std::int64_t jacobian_steps = 0;     // pixels evaluated with their Jacobian in a batch
+  std::int64_t slow_path_pixels = 0;   // pixels settled by Newton from each neighbour, then the global solver
   std::int64_t folded_pixels = 0;      // pixels where a cell folds (several preimages)
   std::int64_t unresolved_pixels = 0;  // pixels where the global solver ran out of budget
   std::vector<std::int64_t> voxels_per_material;  // after dithering; index = scene material
