@@ -68,10 +68,12 @@ void BM_EvaluateJacobian(benchmark::State& state) {
 }
 BENCHMARK(BM_EvaluateJacobian)->ArgName("de_boor")->Arg(0)->Arg(1);
 
-// Values along rows, as the slicer's tracer evaluates its row predictions: each row a
-// dependent chain (the next parameter waits on the row's last value). Argument 0: one row,
-// the old tracer's order; 1: four rows, each point with Volume::evaluate; 2: four rows, their
-// points handed to Volume::evaluate_many together, as the tracer does now. Same values.
+// Values along rows, as the slicer's tracer evaluates its row guesses: each row a dependent
+// chain (the next parameter waits on the row's last value). Argument 0: one row, the old
+// tracer's order; 1: four rows, each point with Volume::evaluate; 2: four rows, their points
+// handed to Volume::evaluate_many together, as the tracer does; 3 and 4: values and
+// Jacobians (the tracer's Jacobian steps), four rows point by point with
+// Volume::evaluate_jacobian, and together with Volume::evaluate_jacobian_many. Same values.
 void BM_EvaluateRowChains(benchmark::State& state) {
   const trivox::Volume& v = column();
   // Each row a straight walk through the domain in 256 steps, between random ends.
@@ -85,21 +87,27 @@ void BM_EvaluateRowChains(benchmark::State& state) {
   std::int64_t points = 0;
   for (auto _ : state) {
     Vec3 last[4] = {};
+    trivox::Mat3 jacobians[4];
     for (std::size_t i = 0; i < 256; ++i) {
       Vec3 at[4];
       for (std::size_t r = 0; r < rows; ++r) at[r] = params[r * 256 + i] + 1e-30 * last[r];
       if (mode == 2) {
         v.evaluate_many(at, last);
+      } else if (mode == 3) {
+        for (std::size_t r = 0; r < rows; ++r) v.evaluate_jacobian(at[r], last[r], jacobians[r]);
+      } else if (mode == 4) {
+        v.evaluate_jacobian_many(at, last, jacobians);
       } else {
         for (std::size_t r = 0; r < rows; ++r) last[r] = v.evaluate(at[r]);
       }
     }
     benchmark::DoNotOptimize(last);
+    benchmark::DoNotOptimize(jacobians);
     points += static_cast<std::int64_t>(rows * 256);
   }
   state.SetItemsProcessed(points);
 }
-BENCHMARK(BM_EvaluateRowChains)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK(BM_EvaluateRowChains)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4);
 
 // A row of pixels 0.04 mm apart along x, each inverted with the previous pixel's solution
 // as the hint, as the slicer's tracing does.

@@ -4,11 +4,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 namespace trivox::detail {
 
 namespace {
 using H = std::array<double, 4>;
+using V4 = double __attribute__((vector_size(32)));
+
+inline V4 load(const H& p) noexcept {
+  V4 v;
+  std::memcpy(&v, p.data(), sizeof v);
+  return v;
+}
 
 struct Interval {
   double lo, hi;
@@ -115,25 +123,22 @@ bool BezierNet::jacobian_bounds(Mat3& lo, Mat3& hi, const Box3& xb) const {
   if (!(W.lo > 0)) return false;
   for (int d = 0; d < 3; ++d) {
     const int n = order[static_cast<std::size_t>(d)];
-    // Hull of the hodograph along d: differences of neighbouring control points, scaled.
-    // Eight running extrema (low and high of X_p, Y_p, Z_p, W_p), kept apart so that they
-    // vectorize.
-    double dlo[4] = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL};
-    double dhi[4] = {-HUGE_VAL, -HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+    // Hull of the hodograph along d: differences of neighbouring control points, scaled;
+    // the running extrema of X_p, Y_p, Z_p, W_p four at a time.
+    V4 dlo = {HUGE_VAL, HUGE_VAL, HUGE_VAL, HUGE_VAL}, dhi = -dlo;
     if (n == 1) {
-      for (int q = 0; q < 4; ++q) dlo[q] = dhi[q] = 0.0;
+      dlo = dhi = V4{};
     } else {
       const double scale = (n - 1) / (box.hi[d] - box.lo[d]);
       // Each line's consecutive differences.
       for_each_line(d, [&](std::size_t first, std::size_t step) {
-        for (int i = 0; i + 1 < n; ++i) {
-          const H& p0 = h[first + static_cast<std::size_t>(i) * step];
-          const H& p1 = h[first + static_cast<std::size_t>(i + 1) * step];
-          for (std::size_t c = 0; c < 4; ++c) {
-            const double v = scale * (p1[c] - p0[c]);
-            dlo[c] = v < dlo[c] ? v : dlo[c];
-            dhi[c] = v > dhi[c] ? v : dhi[c];
-          }
+        V4 previous = load(h[first]);
+        for (int i = 1; i < n; ++i) {
+          const V4 next = load(h[first + static_cast<std::size_t>(i) * step]);
+          const V4 v = scale * (next - previous);
+          dlo = v < dlo ? v : dlo;
+          dhi = v > dhi ? v : dhi;
+          previous = next;
         }
       });
     }

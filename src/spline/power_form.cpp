@@ -47,7 +47,6 @@ AxisPieces split_axis(const KnotVector& kv) {
   out.axis.lo = lo;
   out.axis.hi = hi;
   out.axis.pieces_per_unit = out.axis.pieces / (hi - lo);
-
   return out;
 }
 
@@ -217,67 +216,42 @@ void power_evaluate_many(const PowerForm& f, const Vec3* uvw, Vec3* out, std::si
   }
 }
 
-// Values and Jacobians at N parameters, interleaved like power_evaluate_n: every point goes
-// through the operations of the single-point evaluator (its N = 1 instance).
-template <int KU, int KV, int KW, int N>
-void power_evaluate_jacobian_n(const PowerForm& f, const Vec3* uvw, Vec3* value, Mat3* jac) noexcept {
-  const V4* c[N];
-  std::array<double, 3> inv_width[N];
-  double ps[N][KU], ds[N][KU], pt[N][KV], dt[N][KV], pr[N][KW], dr[N][KW];
-  for (int n = 0; n < N; ++n) {
-    const PieceAt at(f, uvw[n]);
-    c[n] = at.coefficients;
-    inv_width[n] = at.inv_width;
-    const Powers<KU> s(at.local[0]);
-    const Powers<KV> t(at.local[1]);
-    const Powers<KW> r(at.local[2]);
-    for (int i = 0; i < KU; ++i) ps[n][i] = s.p[i], ds[n][i] = s.d[i];
-    for (int j = 0; j < KV; ++j) pt[n][j] = t.p[j], dt[n][j] = t.d[j];
-    for (int k = 0; k < KW; ++k) pr[n][k] = r.p[k], dr[n][k] = r.d[k];
-  }
-  V4 S[N], Su[N], Sv[N], Sw[N];
-  for (int n = 0; n < N; ++n) S[n] = Su[n] = Sv[n] = Sw[n] = V4{};
-  for (int k = 0; k < KW; ++k) {
-    V4 P[N], Pu[N], Pv[N];
-    for (int n = 0; n < N; ++n) P[n] = Pu[n] = Pv[n] = V4{};
-    for (int j = 0; j < KV; ++j)
-      for (int n = 0; n < N; ++n) {
-        const V4* row = c[n] + KU * (j + KV * k);
-        V4 L = row[0], Lu = row[1];
-        for (int i = 1; i < KU; ++i) L += ps[n][i] * row[i];
-        for (int i = 2; i < KU; ++i) Lu += ds[n][i] * row[i];
-        P[n] += pt[n][j] * L;
-        Pu[n] += pt[n][j] * Lu;
-        Pv[n] += dt[n][j] * L;
-      }
-    for (int n = 0; n < N; ++n) {
-      S[n] += pr[n][k] * P[n];
-      Su[n] += pr[n][k] * Pu[n];
-      Sv[n] += pr[n][k] * Pv[n];
-      Sw[n] += dr[n][k] * P[n];
-    }
-  }
-  // Back from local coordinates to parameters (chain rule), then the quotient rule.
-  for (int n = 0; n < N; ++n) homogeneous_to_euclidean(S[n], Su[n], Sv[n], Sw[n], inv_width[n], value[n], jac[n]);
-}
-
 template <int KU, int KV, int KW>
 void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& jac) noexcept {
-  power_evaluate_jacobian_n<KU, KV, KW, 1>(f, &uvw, &value, &jac);
+  const PieceAt at(f, uvw);
+  const V4* c = at.coefficients;
+  const Powers<KU> ps(at.local[0]);
+  const Powers<KV> pt(at.local[1]);
+  const Powers<KW> pr(at.local[2]);
+  V4 S{}, Su{}, Sv{}, Sw{};
+  for (int k = 0; k < KW; ++k) {
+    V4 P{}, Pu{}, Pv{};
+    for (int j = 0; j < KV; ++j) {
+      const V4* row = c + KU * (j + KV * k);
+      V4 L = row[0], Lu = row[1];
+      for (int i = 1; i < KU; ++i) L += ps.p[i] * row[i];
+      for (int i = 2; i < KU; ++i) Lu += ps.d[i] * row[i];
+      P += pt.p[j] * L;
+      Pu += pt.p[j] * Lu;
+      Pv += pt.d[j] * L;
+    }
+    S += pr.p[k] * P;
+    Su += pr.p[k] * Pu;
+    Sv += pr.p[k] * Pv;
+    Sw += pr.d[k] * P;
+  }
+  // Back from local coordinates to parameters (chain rule), then the quotient rule.
+  homogeneous_to_euclidean(S, Su, Sv, Sw, at.inv_width, value, jac);
 }
 
-// Groups of four, then the rest together.
+// One point after the other: interleaving value-and-Jacobian evaluations, as
+// power_evaluate_n does for values, needs more registers than the machine has and measured
+// slower (kernel_bench BM_EvaluateRowChains, modes 3 and 4); the out-of-order core overlaps
+// consecutive calls by itself.
 template <int KU, int KV, int KW>
 void power_evaluate_jacobian_many(const PowerForm& f, const Vec3* uvw, Vec3* value, Mat3* jac,
                                   std::size_t count) noexcept {
-  std::size_t i = 0;
-  for (; i + 4 <= count; i += 4) power_evaluate_jacobian_n<KU, KV, KW, 4>(f, uvw + i, value + i, jac + i);
-  switch (count - i) {
-    case 3: power_evaluate_jacobian_n<KU, KV, KW, 3>(f, uvw + i, value + i, jac + i); break;
-    case 2: power_evaluate_jacobian_n<KU, KV, KW, 2>(f, uvw + i, value + i, jac + i); break;
-    case 1: power_evaluate_jacobian_n<KU, KV, KW, 1>(f, uvw + i, value + i, jac + i); break;
-    default: break;
-  }
+  for (std::size_t i = 0; i < count; ++i) power_evaluate_jacobian<KU, KV, KW>(f, uvw[i], value[i], jac[i]);
 }
 
 constexpr int kFirst = 2, kCount = kMaxPowerOrder - kFirst + 1;

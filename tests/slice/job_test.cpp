@@ -95,14 +95,19 @@ TEST(SliceJob, EveryDitherMethodIsIndependentOfTheThreadCount) {
 // stats.json: the pixels each cell owns, per layer and in total, add up to the inside pixels
 // (every cell has a non-empty material, so every inside pixel is owned), and match what the
 // slicer reports for the layer.
+// The two-material scene sliced whole into a fresh folder; its stats.json.
+nlohmann::json two_material_stats(const Slicer& slicer, const std::string& folder) {
+  JobParams p;
+  p.output_dir = fresh_dir(folder);
+  p.min_layers = 0;
+  run_slice_job(slicer, p);
+  return nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+}
+
 TEST(SliceJob, StatsListThePixelsOfEveryCell) {
   const Scene scene = two_material_scene();
   const Slicer slicer(scene, {});
-  JobParams p;
-  p.output_dir = fresh_dir("pixels-per-cell");
-  p.min_layers = 0;
-  run_slice_job(slicer, p);
-  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  const auto stats = two_material_stats(slicer, "pixels-per-cell");
   ASSERT_EQ(stats.at("cells").size(), 2u);
   EXPECT_EQ(stats["cells"][0], "gradient");
   EXPECT_EQ(stats["cells"][1], "ring");
@@ -130,11 +135,7 @@ TEST(SliceJob, StatsListThePixelsOfEveryCell) {
 TEST(SliceJob, StatsSayHowThePixelsWereSettled) {
   const Scene scene = two_material_scene();
   const Slicer slicer(scene, {});
-  JobParams p;
-  p.output_dir = fresh_dir("settled");
-  p.min_layers = 0;
-  run_slice_job(slicer, p);
-  const auto stats = nlohmann::json::parse(read_bytes(p.output_dir / "stats.json"));
+  const auto stats = two_material_stats(slicer, "settled");
   for (const auto& s : {stats.at("total"), stats.at("layers").at(0)}) {
     const long candidates = s.at("candidates"), guesses = s.at("guesses"), misses = s.at("guess_misses"),
                steps = s.at("jacobian_steps"), slow = s.at("slow_path_pixels"), evals = s.at("newton_evals");

@@ -88,6 +88,9 @@ TEST(Volume, FastEvaluatorsMatchGeneralPath) {
 // evaluate_many interleaves up to four evaluations; every point must come out as the
 // single-point evaluator gives it, bit for bit (the tracer's answers must not depend on how
 // many rows it batches). Counts 0 to 9 cover whole groups of four and every remainder.
+// The tracer evaluates its guesses and its Jacobian steps in batches: each point's value (and
+// Jacobian) must be those of the single-point evaluators, whatever the batch's size (groups
+// of four, then three, two, one).
 TEST(Volume, EvaluateManyIsBitIdenticalToSinglePoints) {
   std::mt19937 rng(11);
   VolumeOptions de_boor;
@@ -100,37 +103,19 @@ TEST(Volume, EvaluateManyIsBitIdenticalToSinglePoints) {
         std::vector<Vec3> t(count);
         for (Vec3& p : t) p = random_param(rng, v.domain());
         if (count > 2) t[1][0] = v.spline().knots(0).knots()[4];  // on a breakpoint or an end
-        std::vector<Vec3> values(count);
+        std::vector<Vec3> values(count), values_with_jacobians(count);
+        std::vector<Mat3> jacobians(count);
         v.evaluate_many(t, values);
+        v.evaluate_jacobian_many(t, values_with_jacobians, jacobians);
         for (std::size_t i = 0; i < count; ++i) {
           const Vec3 q = v.evaluate(t[i]);
-          for (int c = 0; c < 3; ++c) EXPECT_EQ(values[i][c], q[c]) << "count " << count << " point " << i;
-        }
-      }
-}
-
-// The tracer evaluates its Jacobian steps in batches: each point's value and Jacobian must be
-// those of evaluate_jacobian, whatever the batch's size (groups of four, then three, two, one).
-TEST(Volume, EvaluateJacobianManyIsBitIdenticalToSinglePoints) {
-  std::mt19937 rng(12);
-  VolumeOptions de_boor;
-  de_boor.power_form = false;
-  const std::vector<TensorSpline> splines = {test::random_rational_spline(rng), discontinuous_spline(rng),
-                                             test::twisted_bent_box(3, 2, 1).spline()};
-  for (const TensorSpline& s : splines)
-    for (const Volume& v : {Volume(s), Volume(s, de_boor)})
-      for (std::size_t count = 0; count <= 9; ++count) {
-        std::vector<Vec3> t(count);
-        for (Vec3& p : t) p = random_param(rng, v.domain());
-        if (count > 2) t[1][0] = v.spline().knots(0).knots()[4];  // on a breakpoint or an end
-        std::vector<Vec3> values(count);
-        std::vector<Mat3> jacobians(count);
-        v.evaluate_jacobian_many(t, values, jacobians);
-        for (std::size_t i = 0; i < count; ++i) {
-          Vec3 q;
+          Vec3 qj;
           Mat3 J;
-          v.evaluate_jacobian(t[i], q, J);
-          for (int c = 0; c < 3; ++c) EXPECT_EQ(values[i][c], q[c]) << "count " << count << " point " << i;
+          v.evaluate_jacobian(t[i], qj, J);
+          for (int c = 0; c < 3; ++c) {
+            EXPECT_EQ(values[i][c], q[c]) << "count " << count << " point " << i;
+            EXPECT_EQ(values_with_jacobians[i][c], qj[c]) << "count " << count << " point " << i;
+          }
           for (std::size_t r = 0; r < 3; ++r)
             for (std::size_t c = 0; c < 3; ++c)
               EXPECT_EQ(jacobians[i].m[r][c], J.m[r][c]) << "count " << count << " point " << i;
