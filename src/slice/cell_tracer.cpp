@@ -1,7 +1,6 @@
 #include "cell_tracer.h"
 
 #include <algorithm>
-#include <bit>
 #include <climits>
 #include <cstring>
 #include <optional>
@@ -27,13 +26,11 @@ TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
 
 namespace {
 
-// The solved flags of columns c - 4 to c - 1 (c >= 4), one byte each, c - 4 in the low byte:
-// one load instead of four for the guess's test.
-inline std::uint32_t solved_flags_before(const std::uint8_t* ok, std::size_t c) noexcept {
+// Whether columns c - 4 to c - 1 (c >= 4) are all solved: one load instead of four.
+inline bool four_solved_before(const std::uint8_t* ok, std::size_t c) noexcept {
   std::uint32_t word;
   std::memcpy(&word, ok + c - 4, sizeof word);
-  if constexpr (std::endian::native == std::endian::big) word = __builtin_bswap32(word);
-  return word;
+  return word == 0x01010101u;  // every flag 1, in either byte order
 }
 
 }  // namespace
@@ -109,6 +106,29 @@ void CellTracer::keep_jacobian(Row& r, std::size_t c) {
   if (!invert3(r.jac[c], r.jac_inverse[c], 0.0)) r.jac_inverse[c] = Mat3{};
 }
 
+CellTracer::Seed CellTracer::seed_at(const Row& r, int col, Vec3 pixel_x) {
+  const auto c = static_cast<std::size_t>(col);
+  return {&r.uvw[c], &r.jac[static_cast<std::size_t>(r.jac_of[c])], pixel_x};
+}
+
+int CellTracer::neighbour_seeds(const Row& r, const Row* above, Vec3 x, Seed* seeds) const {
+  const int col = r.col;
+  const auto c = static_cast<std::size_t>(col);
+  const TracingStrategy s = params_.tracing;
+  const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
+  const bool eight_neighbours = s == TracingStrategy::kFull || predicts_;
+  auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
+  int n = 0;
+  if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = seed_at(r, col - 1, x - Vec3{dx, 0, 0});
+  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && above_ok(col))
+    seeds[n++] = seed_at(*above, col, x + Vec3{0, dy, 0});
+  if (eight_neighbours) {
+    if (col > 0 && above_ok(col - 1)) seeds[n++] = seed_at(*above, col - 1, x + Vec3{-dx, dy, 0});
+    if (col + 1 < width_ && above_ok(col + 1)) seeds[n++] = seed_at(*above, col + 1, x + Vec3{dx, dy, 0});
+  }
+  return n;
+}
+
 // Along a row the inverse map is smooth: the cubic through the last four solutions predicts
 // the next one to O(pitch^4), usually within the residual tolerance, so a single value-only
 // evaluation settles the pixel. Where the map bends too fast for it (small or strongly
@@ -125,23 +145,15 @@ inline CellTracer::Step CellTracer::plan(const Row& r, const Row* above, Vec3 x,
   }
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
-  if (col >= 4 && solved_flags_before(r.ok.data(), c) == 0x01010101u) {
+  if (col >= 4 && four_solved_before(r.ok.data(), c)) {
     const Vec3* u = r.uvw.data() + c;
     at = 4.0 * (u[-1] + u[-3]) - 6.0 * u[-2] - u[-4];
     if (volume_.domain().contains(at)) return col < r.jacobian_until ? Step::kJacobian : Step::kGuess;
   }
-  const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
-  auto from = [&](const Row& n, std::size_t k, Vec3 seed_x) {
-    at = predict_from_seed(volume_.domain(), x, n.uvw[k], seed_x, n.jac[static_cast<std::size_t>(n.jac_of[k])]);
-    return Step::kJacobian;
-  };
-  if (col > 0 && r.ok[c - 1]) return from(r, c - 1, x - Vec3{dx, 0, 0});
-  if (above != nullptr) {
-    if (above->ok[c]) return from(*above, c, x + Vec3{0, dy, 0});
-    if (col > 0 && above->ok[c - 1]) return from(*above, c - 1, x + Vec3{-dx, dy, 0});
-    if (col + 1 < width_ && above->ok[c + 1]) return from(*above, c + 1, x + Vec3{dx, dy, 0});
-  }
-  return Step::kSlow;
+  Seed seeds[kMaxSeeds];
+  if (neighbour_seeds(r, above, x, seeds) == 0) return Step::kSlow;
+  at = predict_from_seed(volume_.domain(), x, *seeds[0].uvw, seeds[0].x, *seeds[0].jac);
+  return Step::kJacobian;
 }
 
 inline bool CellTracer::accept_guess(Row& r, Vec3 x, Vec3 guess, Vec3 value) {
@@ -204,46 +216,26 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   ++counters_.slow_path;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
-  const TracingStrategy s = params_.tracing;
-  // Seeds in the order the strategy allows (Table 1 of the paper): the neighbour's solution,
-  // Jacobian and pixel centre.
-  struct Seed {
-    const Vec3* uvw;
-    const Mat3* jac;
-    Vec3 x;
-  };
-  Seed seeds[6];
-  int n = 0;
+  Seed seeds[kMaxSeeds];
+  int n = neighbour_seeds(r, above, x, seeds);
   const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
-  const bool eight_neighbours = s == TracingStrategy::kFull || predicts_;
   auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
-  auto above_seed = [&](int k, Vec3 at) {
-    const auto kk = static_cast<std::size_t>(k);
-    return Seed{&above->uvw[kk], &above->jac[static_cast<std::size_t>(above->jac_of[kk])], at};
-  };
-  auto own_seed = [&](std::size_t k, Vec3 at) { return Seed{&r.uvw[k], &r.jac[static_cast<std::size_t>(r.jac_of[k])], at}; };
-  if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = own_seed(c - 1, x - Vec3{dx, 0, 0});
-  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && above_ok(col)) seeds[n++] = above_seed(col, x + Vec3{0, dy, 0});
-  if (eight_neighbours) {
-    if (col > 0 && above_ok(col - 1)) seeds[n++] = above_seed(col - 1, x + Vec3{-dx, dy, 0});
-    if (col + 1 < width_ && above_ok(col + 1)) seeds[n++] = above_seed(col + 1, x + Vec3{dx, dy, 0});
-  }
-  if (s == TracingStrategy::kFlood && n == 0) {
+  if (params_.tracing == TracingStrategy::kFlood && n == 0) {
     // No neighbour is solved: the nearest solved pixel of the row above (either side), and
     // of this row to the left, as far as kFloodReach pixels away.
     for (int k = 2; k <= kFloodReach; ++k) {
       if (col - k >= 0 && above_ok(col - k)) {
-        seeds[n++] = above_seed(col - k, x + Vec3{-k * dx, dy, 0});
+        seeds[n++] = seed_at(*above, col - k, x + Vec3{-k * dx, dy, 0});
         break;
       }
       if (col + k < width_ && above_ok(col + k)) {
-        seeds[n++] = above_seed(col + k, x + Vec3{k * dx, dy, 0});
+        seeds[n++] = seed_at(*above, col + k, x + Vec3{k * dx, dy, 0});
         break;
       }
     }
     for (int k = 2; k <= kFloodReach && col - k >= 0; ++k)
       if (r.ok[c - static_cast<std::size_t>(k)]) {
-        seeds[n++] = own_seed(c - static_cast<std::size_t>(k), x - Vec3{k * dx, 0, 0});
+        seeds[n++] = seed_at(r, col - k, x - Vec3{k * dx, 0, 0});
         break;
       }
   }

@@ -98,6 +98,20 @@ class CellTracer {
     TracedRow out;
   };
 
+  // A solved pixel as a seed for Newton: its solution, the Jacobian it was predicted with and
+  // its centre.
+  struct Seed {
+    const Vec3* uvw;
+    const Mat3* jac;
+    Vec3 x;
+  };
+  // The flood's two farther seeds beyond the four neighbours.
+  static constexpr int kMaxSeeds = 6;
+  static Seed seed_at(const Row& r, int col, Vec3 pixel_x);
+  // The solved neighbours of pixel x (the row's next) in the order the strategy tries them
+  // (the paper's Table 1): left, above, above-left, above-right. Returns how many.
+  int neighbour_seeds(const Row& r, const Row* above, Vec3 x, Seed* seeds) const;
+
   // How a row's next pixel is settled, and the parameter it is evaluated at: a guess, the end
   // of a Jacobian step that could not be certified (checked by its value), a Jacobian step,
   // or the slow path.
