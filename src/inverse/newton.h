@@ -11,12 +11,6 @@ namespace trivox::detail {
 InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const ParamBox& box,
                             const InverseParams& params) noexcept;
 
-// The slicer's hot path: x is a pixel next to `seed_x`, whose solution `seed_uvw` and Jacobian
-// `seed_jacobian` are known. Predicts u = seed + J^-1 (x - seed_x), takes one Newton step from
-// there and checks the residual - by the Taylor certificate below when the volume has
-// second-derivative bounds and the step is small enough, else with a value-only evaluation;
-// falls back to newton_in_box when that does not meet the tolerance. `jacobian` receives J near the solution (for the
-// next prediction). Every converged result meets the residual tolerance.
 // The first-order prediction seed + J^-1 (x - seed_x) from a solved neighbour, clamped to the
 // domain (the seed itself when J is singular).
 inline Vec3 predict_from_seed(const ParamBox& domain, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian) noexcept {
@@ -24,6 +18,12 @@ inline Vec3 predict_from_seed(const ParamBox& domain, Vec3 x, Vec3 seed_uvw, Vec
   return solve3(seed_jacobian, x - seed_x, d, 0.0) ? domain.clamp(seed_uvw + d) : seed_uvw;
 }
 
+// Newton from one solved neighbour (invert_from_neighbour, and the slicer's slow path): x is a
+// pixel next to `seed_x`, whose solution `seed_uvw` and Jacobian `seed_jacobian` are known.
+// Predicts u = seed + J^-1 (x - seed_x), takes one Newton step from there and checks the
+// residual (check_newton_step, else a value-only evaluation at the step's end); falls back to
+// newton_in_box when that does not meet the tolerance. `jacobian` receives J near the
+// solution (for the next prediction). Every converged result meets the residual tolerance.
 InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian,
                             const InverseParams& params, Mat3& jacobian) noexcept;
 
