@@ -1,9 +1,15 @@
 #include "power_form.h"
 
 #include <array>
+#include <bit>
+#include <cmath>
 #include <utility>
 
 #include "trivox/spline/basis.h"
+
+#if defined(__FMA__) && defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 namespace trivox::detail {
 
@@ -158,10 +164,26 @@ struct PieceAt {
   }
 };
 
+// c + a * b, four lanes, fused (one rounding) where the machine has fused multiply-add and
+// plain otherwise, but in either case written out: the compiler may fuse a written `c + a * b`
+// in one instance of a template and not in another (it did, in the sanitizers' build for
+// Zen 4), and the interleaved evaluators below must give the single-point evaluator's numbers
+// bit for bit.
+inline V4 multiply_add(double a, const V4& b, const V4& c) noexcept {
+#if defined(__FMA__) && defined(__AVX__)
+  return std::bit_cast<V4>(_mm256_fmadd_pd(_mm256_set1_pd(a), std::bit_cast<__m256d>(b), std::bit_cast<__m256d>(c)));
+#elif defined(__FP_FAST_FMA)
+  return V4{std::fma(a, b[0], c[0]), std::fma(a, b[1], c[1]), std::fma(a, b[2], c[2]), std::fma(a, b[3], c[3])};
+#else
+  return a * b + c;  // no fused instruction to contract into
+#endif
+}
+
 // Values at N parameters, the N evaluations interleaved loop by loop: they are
 // independent, so their latencies overlap where one evaluation alone would wait on each
 // multiply-add. Every point goes through exactly the same operations as with N = 1 (the
-// single-point evaluator is this function's N = 1 instance), so the results are identical.
+// single-point evaluator is this function's N = 1 instance, and every multiply-add is
+// written out), so the results are identical.
 template <int KU, int KV, int KW, int N>
 void power_evaluate_n(const PowerForm& f, const Vec3* uvw, Vec3* out) noexcept {
   const V4* c[N];
@@ -185,10 +207,10 @@ void power_evaluate_n(const PowerForm& f, const Vec3* uvw, Vec3* out) noexcept {
       for (int n = 0; n < N; ++n) {
         const V4* row = c[n] + KU * (j + KV * k);
         V4 line = row[0];
-        for (int i = 1; i < KU; ++i) line += ps[n][i] * row[i];
-        plane[n] += pt[n][j] * line;
+        for (int i = 1; i < KU; ++i) line = multiply_add(ps[n][i], row[i], line);
+        plane[n] = multiply_add(pt[n][j], line, plane[n]);
       }
-    for (int n = 0; n < N; ++n) acc[n] += pr[n][k] * plane[n];
+    for (int n = 0; n < N; ++n) acc[n] = multiply_add(pr[n][k], plane[n], acc[n]);
   }
   for (int n = 0; n < N; ++n) {
     const double inv = 1.0 / acc[n][3];
@@ -203,9 +225,7 @@ Vec3 power_evaluate(const PowerForm& f, Vec3 uvw) noexcept {
   return out;
 }
 
-// Groups of four, then the rest one by one. (Groups of two and three, tried, were not bit for
-// bit the single evaluations in the sanitizers' build, whose compiler contracts them
-// differently.)
+// Groups of four, then the rest one by one.
 template <int KU, int KV, int KW>
 void power_evaluate_many(const PowerForm& f, const Vec3* uvw, Vec3* out, std::size_t count) noexcept {
   std::size_t i = 0;
