@@ -1,22 +1,14 @@
 #include "bezier_net.h"
 
+#include "spline/volume_kernels.h"  // H, V4 and load: homogeneous points four lanes at a time
 #include "trivox/spline/knot_vector.h"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 namespace trivox::detail {
 
 namespace {
-using H = std::array<double, 4>;
-using V4 = double __attribute__((vector_size(32)));
-
-inline V4 load(const H& p) noexcept {
-  V4 v;
-  std::memcpy(&v, p.data(), sizeof v);
-  return v;
-}
 
 struct Interval {
   double lo, hi;

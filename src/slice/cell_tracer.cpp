@@ -117,14 +117,13 @@ int CellTracer::neighbour_seeds(const Row& r, const Row* above, Vec3 x, Seed* se
   const TracingStrategy s = params_.tracing;
   const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
   const bool eight_neighbours = s == TracingStrategy::kFull || predicts_;
-  auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
   int n = 0;
   if (s != TracingStrategy::kNone && col > 0 && r.ok[c - 1]) seeds[n++] = seed_at(r, col - 1, x - Vec3{dx, 0, 0});
-  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && above_ok(col))
+  if ((s == TracingStrategy::kPreviousLine || eight_neighbours) && solved(above, col))
     seeds[n++] = seed_at(*above, col, x + Vec3{0, dy, 0});
   if (eight_neighbours) {
-    if (col > 0 && above_ok(col - 1)) seeds[n++] = seed_at(*above, col - 1, x + Vec3{-dx, dy, 0});
-    if (col + 1 < width_ && above_ok(col + 1)) seeds[n++] = seed_at(*above, col + 1, x + Vec3{dx, dy, 0});
+    if (col > 0 && solved(above, col - 1)) seeds[n++] = seed_at(*above, col - 1, x + Vec3{-dx, dy, 0});
+    if (col + 1 < width_ && solved(above, col + 1)) seeds[n++] = seed_at(*above, col + 1, x + Vec3{dx, dy, 0});
   }
   return n;
 }
@@ -219,16 +218,15 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   Seed seeds[kMaxSeeds];
   int n = neighbour_seeds(r, above, x, seeds);
   const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
-  auto above_ok = [&](int k) { return above != nullptr && above->ok[static_cast<std::size_t>(k)] != 0; };
   if (params_.tracing == TracingStrategy::kFlood && n == 0) {
     // No neighbour is solved: the nearest solved pixel of the row above (either side), and
     // of this row to the left, as far as kFloodReach pixels away.
     for (int k = 2; k <= kFloodReach; ++k) {
-      if (col - k >= 0 && above_ok(col - k)) {
+      if (col - k >= 0 && solved(above, col - k)) {
         seeds[n++] = seed_at(*above, col - k, x + Vec3{-k * dx, dy, 0});
         break;
       }
-      if (col + k < width_ && above_ok(col + k)) {
+      if (col + k < width_ && solved(above, col + k)) {
         seeds[n++] = seed_at(*above, col + k, x + Vec3{k * dx, dy, 0});
         break;
       }

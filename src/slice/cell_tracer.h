@@ -108,6 +108,8 @@ class CellTracer {
   // The flood's two farther seeds beyond the four neighbours.
   static constexpr int kMaxSeeds = 6;
   static Seed seed_at(const Row& r, int col, Vec3 pixel_x);
+  // Whether `row` (the row above, or none) has column `col` solved.
+  static bool solved(const Row* row, int col) { return row != nullptr && row->ok[static_cast<std::size_t>(col)] != 0; }
   // The solved neighbours of pixel x (the row's next) in the order the strategy tries them
   // (the paper's Table 1): left, above, above-left, above-right. Returns how many.
   int neighbour_seeds(const Row& r, const Row* above, Vec3 x, Seed* seeds) const;

@@ -261,23 +261,12 @@ void power_evaluate_jacobian(const PowerForm& f, Vec3 uvw, Vec3& value, Mat3& ja
   homogeneous_to_euclidean(S, Su, Sv, Sw, at.inv_width, value, jac);
 }
 
-// One point after the other: interleaving value-and-Jacobian evaluations, as
-// power_evaluate_n does for values, needs more registers than the machine has and measured
-// slower (kernel_bench BM_EvaluateRowChains, modes 3 and 4); the out-of-order core overlaps
-// consecutive calls by itself.
-template <int KU, int KV, int KW>
-void power_evaluate_jacobian_many(const PowerForm& f, const Vec3* uvw, Vec3* value, Mat3* jac,
-                                  std::size_t count) noexcept {
-  for (std::size_t i = 0; i < count; ++i) power_evaluate_jacobian<KU, KV, KW>(f, uvw[i], value[i], jac[i]);
-}
-
 constexpr int kFirst = 2, kCount = kMaxPowerOrder - kFirst + 1;
 
 struct Kernels {
   PowerEvaluateFn value;
   PowerEvaluateJacobianFn jacobian;
   PowerEvaluateManyFn many;
-  PowerEvaluateJacobianManyFn jacobian_many;
 };
 
 template <std::size_t I>
@@ -285,8 +274,7 @@ constexpr Kernels kernels_for() {
   constexpr int ku = kFirst + static_cast<int>(I % kCount);
   constexpr int kv = kFirst + static_cast<int>((I / kCount) % kCount);
   constexpr int kw = kFirst + static_cast<int>(I / (kCount * kCount));
-  return {&power_evaluate<ku, kv, kw>, &power_evaluate_jacobian<ku, kv, kw>, &power_evaluate_many<ku, kv, kw>,
-          &power_evaluate_jacobian_many<ku, kv, kw>};
+  return {&power_evaluate<ku, kv, kw>, &power_evaluate_jacobian<ku, kv, kw>, &power_evaluate_many<ku, kv, kw>};
 }
 
 template <std::size_t... I>
@@ -311,11 +299,6 @@ PowerEvaluateFn select_power_evaluate(int ku, int kv, int kw) noexcept {
 PowerEvaluateJacobianFn select_power_evaluate_jacobian(int ku, int kv, int kw) noexcept {
   if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
   return kTable[slot(ku, kv, kw)].jacobian;
-}
-
-PowerEvaluateJacobianManyFn select_power_evaluate_jacobian_many(int ku, int kv, int kw) noexcept {
-  if (!supported(ku) || !supported(kv) || !supported(kw)) return nullptr;
-  return kTable[slot(ku, kv, kw)].jacobian_many;
 }
 
 PowerEvaluateManyFn select_power_evaluate_many(int ku, int kv, int kw) noexcept {

@@ -65,10 +65,8 @@ bool build_power_form(const VolumeData& data, PowerForm& out, std::size_t max_by
 using PowerEvaluateFn = Vec3 (*)(const PowerForm&, Vec3) noexcept;
 using PowerEvaluateJacobianFn = void (*)(const PowerForm&, Vec3, Vec3&, Mat3&) noexcept;
 using PowerEvaluateManyFn = void (*)(const PowerForm&, const Vec3*, Vec3*, std::size_t) noexcept;
-using PowerEvaluateJacobianManyFn = void (*)(const PowerForm&, const Vec3*, Vec3*, Mat3*, std::size_t) noexcept;
 PowerEvaluateFn select_power_evaluate(int ku, int kv, int kw) noexcept;
 PowerEvaluateManyFn select_power_evaluate_many(int ku, int kv, int kw) noexcept;
 PowerEvaluateJacobianFn select_power_evaluate_jacobian(int ku, int kv, int kw) noexcept;
-PowerEvaluateJacobianManyFn select_power_evaluate_jacobian_many(int ku, int kv, int kw) noexcept;
 
 }  // namespace trivox::detail

@@ -43,7 +43,6 @@ Volume::Volume(TensorSpline spline, const VolumeOptions& options) : spline_(std:
       power_evaluate_fn_ = detail::select_power_evaluate(k[0], k[1], k[2]);
       power_evaluate_many_fn_ = detail::select_power_evaluate_many(k[0], k[1], k[2]);
       power_evaluate_jacobian_fn_ = detail::select_power_evaluate_jacobian(k[0], k[1], k[2]);
-      power_evaluate_jacobian_many_fn_ = detail::select_power_evaluate_jacobian_many(k[0], k[1], k[2]);
     }
   }
 }
@@ -74,9 +73,10 @@ void Volume::evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noex
 
 void Volume::evaluate_jacobian_many(std::span<const Vec3> uvw, std::span<Vec3> values,
                                     std::span<Mat3> jacobians) const noexcept {
-  if (power_) return power_evaluate_jacobian_many_fn_(*power_, uvw.data(), values.data(), jacobians.data(), uvw.size());
-  const detail::VolumeData d = data();
-  for (std::size_t i = 0; i < uvw.size(); ++i) evaluate_jacobian_fn_(d, uvw[i], values[i], jacobians[i]);
+  // One point after the other: interleaving value-and-Jacobian evaluations, as evaluate_many
+  // does for values, needs more registers than the machine has and measured slower
+  // (kernel_bench BM_EvaluateRowChains, modes 3 and 4).
+  for (std::size_t i = 0; i < uvw.size(); ++i) evaluate_jacobian(uvw[i], values[i], jacobians[i]);
 }
 
 Box3 Volume::bounds(const ParamBox& box) const noexcept {

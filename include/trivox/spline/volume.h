@@ -65,8 +65,8 @@ class Volume {
   // V and its Jacobian (column c = dV/d(param c)) in one pass.
   void evaluate_jacobian(Vec3 uvw, Vec3& value, Mat3& jacobian) const noexcept;
 
-  // V and its Jacobian at several parameters, bit for bit those of evaluate_jacobian, their
-  // evaluations interleaved like evaluate_many's. The three spans have the same size.
+  // V and its Jacobian at several parameters: evaluate_jacobian at each, one after the other.
+  // The three spans have the same size.
   void evaluate_jacobian_many(std::span<const Vec3> uvw, std::span<Vec3> values, std::span<Mat3> jacobians) const noexcept;
 
   // Box of all Euclidean control points: contains the whole image.
@@ -99,8 +99,6 @@ class Volume {
   Vec3 (*power_evaluate_fn_)(const detail::PowerForm&, Vec3) noexcept = nullptr;
   void (*power_evaluate_many_fn_)(const detail::PowerForm&, const Vec3*, Vec3*, std::size_t) noexcept = nullptr;
   void (*power_evaluate_jacobian_fn_)(const detail::PowerForm&, Vec3, Vec3&, Mat3&) noexcept = nullptr;
-  void (*power_evaluate_jacobian_many_fn_)(const detail::PowerForm&, const Vec3*, Vec3*, Mat3*, std::size_t) noexcept =
-      nullptr;
   detail::VolumeData data() const noexcept;
 };
 
