@@ -85,12 +85,11 @@ TEST(Volume, FastEvaluatorsMatchGeneralPath) {
   }
 }
 
-// evaluate_many interleaves up to four evaluations; every point must come out as the
-// single-point evaluator gives it, bit for bit (the tracer's answers must not depend on how
-// many rows it batches). Counts 0 to 9 cover whole groups of four and every remainder.
-// The tracer evaluates its guesses and its Jacobian steps in batches: each point's value (and
-// Jacobian) must be those of the single-point evaluators, whatever the batch's size (groups
-// of four, then three, two, one).
+// The tracer evaluates its guesses (evaluate_many, which interleaves up to four evaluations)
+// and its Jacobian steps (evaluate_jacobian_many) in batches: every point's value and
+// Jacobian must come out as the single-point evaluators give them, bit for bit, so that the
+// tracer's answers do not depend on how many rows it batches. Counts 0 to 9 cover whole
+// groups of four and every remainder.
 TEST(Volume, EvaluateManyIsBitIdenticalToSinglePoints) {
   std::mt19937 rng(11);
   VolumeOptions de_boor;
