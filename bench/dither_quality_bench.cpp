@@ -128,13 +128,15 @@ double low_pass_rms(const std::vector<std::vector<double>>& errors, double sigma
     for (int y = 0; y < kSize; ++y)
       for (int x = r; x < kSize - r; ++x) {
         double s = 0;
-        for (int i = -r; i <= r; ++i) s += k[static_cast<std::size_t>(i + r)] * e[static_cast<std::size_t>(y * kSize + x + i)];
+        for (int i = -r; i <= r; ++i)
+          s += k[static_cast<std::size_t>(i + r)] * e[static_cast<std::size_t>(y * kSize + x + i)];
         h[static_cast<std::size_t>(y * kSize + x)] = s;
       }
     for (int y = r; y < kSize - r; ++y)
       for (int x = r; x < kSize - r; ++x) {
         double s = 0;
-        for (int i = -r; i <= r; ++i) s += k[static_cast<std::size_t>(i + r)] * h[static_cast<std::size_t>((y + i) * kSize + x)];
+        for (int i = -r; i <= r; ++i)
+          s += k[static_cast<std::size_t>(i + r)] * h[static_cast<std::size_t>((y + i) * kSize + x)];
         sum_sq += s * s;
         ++count;
       }
@@ -154,8 +156,8 @@ int main() {
   }
 
   fmt::print("Windowed fraction error (max / rms over windows and labels, in percent) and graininess\n");
-  fmt::print("(rms of the low-passed error, sigma 2 px and 4 px, in percent); {} x {} px blocks, layer 0.\n\n",
-             kSize, kSize);
+  fmt::print("(rms of the low-passed error, sigma 2 px and 4 px, in percent); {} x {} px blocks, layer 0.\n\n", kSize,
+             kSize);
   fmt::print("| block | method | 8 px max / rms | 16 px max / rms | 64 px max / rms | grain s=2 | grain s=4 |\n");
   fmt::print("|---|---|---|---|---|---|---|\n");
   const std::vector<Block> all = blocks();
@@ -163,7 +165,8 @@ int main() {
     for (const DitherParams& p : methods) {
       const LabelImage labels = trivox::dither(b.grid, inside, p, 0);
       std::vector<std::vector<double>> errors;
-      for (int label = 0; label <= b.grid.num_materials(); ++label) errors.push_back(error_image(b.grid, labels, label));
+      for (int label = 0; label <= b.grid.num_materials(); ++label)
+        errors.push_back(error_image(b.grid, labels, label));
       std::string cells;
       for (int w : {8, 16, 64}) {
         const WindowError we = window_error(errors, w);

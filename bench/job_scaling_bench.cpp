@@ -77,11 +77,13 @@ int main(int argc, char** argv) {
   const int threads = arg_int(argc, argv, "--threads", hw > 0 ? hw : 1);
   const int sample = arg_int(argc, argv, "--sample-layers", 8);
 
-  fmt::print("Time against inside voxels (one thread, {} layers spread over the height, PNG writing "
-             "excluded)\n\n",
-             sample);
-  fmt::print("| model scale | bitmap | inside voxels per layer | time per layer [s] | ns per inside voxel |\n"
-             "|---|---|---|---|---|\n");
+  fmt::print(
+      "Time against inside voxels (one thread, {} layers spread over the height, PNG writing "
+      "excluded)\n\n",
+      sample);
+  fmt::print(
+      "| model scale | bitmap | inside voxels per layer | time per layer [s] | ns per inside voxel |\n"
+      "|---|---|---|---|---|\n");
   for (double scale : {0.25, 0.5, 1.0}) {
     const Scene scene = duck_class_scene(scale);
     const Slicer slicer(scene, {});
@@ -97,9 +99,10 @@ int main(int argc, char** argv) {
                static_cast<double>(inside) / sample, seconds / sample, 1e9 * seconds / static_cast<double>(inside));
   }
 
-  fmt::print("\nMemory against layers (whole jobs with Voxel Print PNGs, model scale 0.25, {} threads, "
-             "each job in its own process)\n\n",
-             threads);
+  fmt::print(
+      "\nMemory against layers (whole jobs with Voxel Print PNGs, model scale 0.25, {} threads, "
+      "each job in its own process)\n\n",
+      threads);
   fmt::print("| layers | wall time [s] | peak resident memory [MiB] |\n|---|---|---|\n");
   for (int count : {25, 50, 100}) {
     const auto [wall, mib] = job_in_child(0.25, 0, count, threads);
@@ -107,9 +110,10 @@ int main(int argc, char** argv) {
     fmt::print("| {} | {:.2f} | {:.1f} |\n", count, wall, mib);
   }
 
-  fmt::print("\nThe whole duck-class job (scale 1) on {} threads, projected from {} consecutive middle layers "
-             "run as one job\n\n",
-             threads, sample);
+  fmt::print(
+      "\nThe whole duck-class job (scale 1) on {} threads, projected from {} consecutive middle layers "
+      "run as one job\n\n",
+      threads, sample);
   {
     const Scene scene = duck_class_scene(1.0);
     const Slicer slicer(scene, {});
@@ -117,7 +121,8 @@ int main(int argc, char** argv) {
     // `sample` consecutive layers from the middle, as a job (threads share them).
     const auto [wall, mib] = job_in_child(1.0, layers / 2, sample, threads);
     if (wall < 0) return 1;
-    fmt::print("| layers | sample wall time [s] | projected whole job [min] | peak memory [MiB] |\n|---|---|---|---|\n");
+    fmt::print(
+        "| layers | sample wall time [s] | projected whole job [min] | peak memory [MiB] |\n|---|---|---|---|\n");
     fmt::print("| {} | {:.2f} | {:.1f} | {:.0f} |\n", layers, wall, wall / sample * layers / 60.0, mib);
   }
   return 0;

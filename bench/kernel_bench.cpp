@@ -204,8 +204,7 @@ void BM_GlobalSolveJustOutside(benchmark::State& state) {
   std::int64_t boxes = 0;
   for (auto _ : state) {
     const std::size_t k = i++ & 255;
-    const trivox::GlobalResult r =
-        state.range(0) ? solver.solve(points[k], {}, normals[k]) : solver.solve(points[k]);
+    const trivox::GlobalResult r = state.range(0) ? solver.solve(points[k], {}, normals[k]) : solver.solve(points[k]);
     if (r.status != trivox::GlobalStatus::kNone) state.SkipWithError("a point outside was not proved outside");
     boxes += r.boxes_visited;
     benchmark::DoNotOptimize(r);
@@ -230,8 +229,7 @@ void BM_DitherFloydSteinberg(benchmark::State& state) {
       if (a * a + b * b > 1.0) continue;
       inside.at(x, y) = 1;
       ++inside_pixels;
-      for (int j = 0; j < m; ++j)
-        grid.at(x, y, j) = static_cast<float>((0.2 + 0.6 * x / w + 0.1 * j * y / h) / m);
+      for (int j = 0; j < m; ++j) grid.at(x, y, j) = static_cast<float>((0.2 + 0.6 * x / w + 0.1 * j * y / h) / m);
     }
   trivox::LabelImage labels;
   int layer = 0;

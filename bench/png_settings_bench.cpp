@@ -37,9 +37,9 @@ int main(int argc, char** argv) {
     std::vector<std::uint8_t> rgba;
     rgba.reserve(r.labels.values().size() * 4);
     for (std::uint8_t label : r.labels.values()) {
-      const std::array<std::uint8_t, 4> c =
-          label == LabelImage::kVoid ? std::array<std::uint8_t, 4>{255, 255, 255, 255}
-                                     : scene.materials[static_cast<std::size_t>(label - 1)].rgba;
+      const std::array<std::uint8_t, 4> c = label == LabelImage::kVoid
+                                                ? std::array<std::uint8_t, 4>{255, 255, 255, 255}
+                                                : scene.materials[static_cast<std::size_t>(label - 1)].rgba;
       rgba.insert(rgba.end(), c.begin(), c.end());
     }
     images.push_back(std::move(rgba));
@@ -48,19 +48,20 @@ int main(int argc, char** argv) {
 
   fmt::print("PNG settings on {} dithered layers of {} x {} px (median of {} encodings per layer, in memory)\n\n",
              layers, L.width_px, L.height_px, repeats);
-  fmt::print("| zlib level | filter | strategy | ms per layer | ns per pixel | size per layer [kB] |\n"
-             "|---|---|---|---|---|---|\n");
+  fmt::print(
+      "| zlib level | filter | strategy | ms per layer | ns per pixel | size per layer [kB] |\n"
+      "|---|---|---|---|---|---|\n");
   struct Setting {
     int level;
     PngFilter filter;
     PngStrategy strategy;
   };
   const std::vector<Setting> settings = {
-      {1, PngFilter::kNone, PngStrategy::kDefault},  {1, PngFilter::kSub, PngStrategy::kDefault},
-      {1, PngFilter::kUp, PngStrategy::kDefault},    {1, PngFilter::kPaeth, PngStrategy::kDefault},
-      {1, PngFilter::kNone, PngStrategy::kRle},      {1, PngFilter::kSub, PngStrategy::kRle},
-      {1, PngFilter::kUp, PngStrategy::kRle},        {1, PngFilter::kSub, PngStrategy::kHuffmanOnly},
-      {3, PngFilter::kSub, PngStrategy::kRle},       {6, PngFilter::kNone, PngStrategy::kDefault},
+      {1, PngFilter::kNone, PngStrategy::kDefault}, {1, PngFilter::kSub, PngStrategy::kDefault},
+      {1, PngFilter::kUp, PngStrategy::kDefault},   {1, PngFilter::kPaeth, PngStrategy::kDefault},
+      {1, PngFilter::kNone, PngStrategy::kRle},     {1, PngFilter::kSub, PngStrategy::kRle},
+      {1, PngFilter::kUp, PngStrategy::kRle},       {1, PngFilter::kSub, PngStrategy::kHuffmanOnly},
+      {3, PngFilter::kSub, PngStrategy::kRle},      {6, PngFilter::kNone, PngStrategy::kDefault},
       {6, PngFilter::kSub, PngStrategy::kRle},
   };
   for (const Setting& s : settings) {

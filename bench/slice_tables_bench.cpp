@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
     const Scene scene = duck_class_scene(t1_scale);
     fmt::print("Table 1 (model scaled by {}; middle layer; one thread)\n\n", t1_scale);
     fmt::print(
-        "| tracing | time [s] | time / previous-point | global solves [% of inside voxels] | evaluations per inside voxel | inside voxels |\n"
+        "| tracing | time [s] | time / previous-point | global solves [% of inside voxels] | evaluations per inside "
+        "voxel | inside voxels |\n"
         "|---|---|---|---|---|---|\n");
     struct Row {
       TracingStrategy tracing;
@@ -109,24 +110,27 @@ int main(int argc, char** argv) {
     const double per_layer = sum.seconds / layers;
     const double inside_per_layer = static_cast<double>(sum.pixels_inside) / layers;
     const double ns = 1e9 / static_cast<double>(sum.pixels_inside);
-    fmt::print("\nTable 2 (full size; {} layers sampled evenly; one thread; {} tracing; PNG writing included)\n\n", layers,
-               to_string(table2_params.tracing));
-    fmt::print("| bitmap | layers | voxels total, inside [x1e9] (projected) | time per layer [s] | total, 1 thread [h] (projected) | global solves [%] |\n|---|---|---|---|---|---|\n");
+    fmt::print("\nTable 2 (full size; {} layers sampled evenly; one thread; {} tracing; PNG writing included)\n\n",
+               layers, to_string(table2_params.tracing));
+    fmt::print(
+        "| bitmap | layers | voxels total, inside [x1e9] (projected) | time per layer [s] | total, 1 thread [h] "
+        "(projected) | global solves [%] |\n|---|---|---|---|---|---|\n");
     fmt::print("| {} x {} | {} | {:.2f}, {:.2f} | {:.3f} | {:.3f} | {:.4f} |\n", L.width_px, L.height_px, L.num_layers,
-               static_cast<double>(L.width_px) * L.height_px * L.num_layers / 1e9, inside_per_layer * L.num_layers / 1e9,
-               per_layer, per_layer * L.num_layers / 3600.0,
+               static_cast<double>(L.width_px) * L.height_px * L.num_layers / 1e9,
+               inside_per_layer * L.num_layers / 1e9, per_layer, per_layer * L.num_layers / 3600.0,
                100.0 * static_cast<double>(sum.global_calls) / static_cast<double>(sum.pixels_inside));
-    fmt::print("\nns per inside voxel (one core): total {:.0f} = inverse {:.0f} + material {:.0f} + dither {:.0f} + "
-               "writing {:.0f}; Newton evaluations per inside voxel {:.2f}; setup (outline meshes, solver) {:.2f} s\n",
-               sum.seconds * ns, sum.seconds_inverse * ns, sum.seconds_material * ns, sum.seconds_dither * ns,
-               write_seconds * ns,
-               static_cast<double>(sum.newton_evals) / static_cast<double>(sum.pixels_inside), setup);
+    fmt::print(
+        "\nns per inside voxel (one core): total {:.0f} = inverse {:.0f} + material {:.0f} + dither {:.0f} + "
+        "writing {:.0f}; Newton evaluations per inside voxel {:.2f}; setup (outline meshes, solver) {:.2f} s\n",
+        sum.seconds * ns, sum.seconds_inverse * ns, sum.seconds_material * ns, sum.seconds_dither * ns,
+        write_seconds * ns, static_cast<double>(sum.newton_evals) / static_cast<double>(sum.pixels_inside), setup);
     const double candidates = static_cast<double>(sum.candidates);
-    fmt::print("pixels settled (% of candidates): guesses {:.2f} (missed {:.3f}), Jacobian steps {:.3f}, slow path {:.3f}\n",
-               100.0 * static_cast<double>(sum.guesses - sum.guess_misses) / candidates,
-               100.0 * static_cast<double>(sum.guess_misses) / candidates,
-               100.0 * static_cast<double>(sum.jacobian_steps) / candidates,
-               100.0 * static_cast<double>(sum.slow_path_pixels) / candidates);
+    fmt::print(
+        "pixels settled (% of candidates): guesses {:.2f} (missed {:.3f}), Jacobian steps {:.3f}, slow path {:.3f}\n",
+        100.0 * static_cast<double>(sum.guesses - sum.guess_misses) / candidates,
+        100.0 * static_cast<double>(sum.guess_misses) / candidates,
+        100.0 * static_cast<double>(sum.jacobian_steps) / candidates,
+        100.0 * static_cast<double>(sum.slow_path_pixels) / candidates);
   }
   return 0;
 }

@@ -15,6 +15,8 @@ packages=(
   python3
   # clang with libFuzzer and the sanitizer runtimes: scripts/fuzz.sh, scripts/tsan.sh
   clang libclang-rt-14-dev
+  # the format check of CI (scripts/check_format.sh)
+  clang-format
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1; then

@@ -5,11 +5,9 @@
 namespace trivox {
 
 namespace {
-std::string format_input_error(const std::string& file, int line, const std::string& where,
-                               const std::string& rule) {
+std::string format_input_error(const std::string& file, int line, const std::string& where, const std::string& rule) {
   std::string location = line > 0 ? fmt::format("{}:{}", file, line) : file;
-  return where.empty() ? fmt::format("{}: {}", location, rule)
-                       : fmt::format("{}: {}: {}", location, where, rule);
+  return where.empty() ? fmt::format("{}: {}", location, rule) : fmt::format("{}: {}: {}", location, where, rule);
 }
 }  // namespace
 

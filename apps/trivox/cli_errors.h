@@ -8,12 +8,12 @@ namespace trivox::cli {
 
 enum ExitCode : int {
   kExitOk = 0,
-  kExitInternal = 1,  // a bug or an unexpected failure (out of memory, an unknown exception)
-  kExitUsage = 2,     // the command line is malformed or asks for something the model lacks
-  kExitInput = 3,     // the input breaks a rule: a model, scene, setting or input line
-                      // (trivox::InputError, UnsupportedError, ModelError, other trivox::Error)
-  kExitIo = 4,        // a file cannot be read or written (trivox::IoError, system errors)
-  kExitCorrupt = 5,   // `trivox verify` found a missing, changed or undecodable file
+  kExitInternal = 1,       // a bug or an unexpected failure (out of memory, an unknown exception)
+  kExitUsage = 2,          // the command line is malformed or asks for something the model lacks
+  kExitInput = 3,          // the input breaks a rule: a model, scene, setting or input line
+                           // (trivox::InputError, UnsupportedError, ModelError, other trivox::Error)
+  kExitIo = 4,             // a file cannot be read or written (trivox::IoError, system errors)
+  kExitCorrupt = 5,        // `trivox verify` found a missing, changed or undecodable file
   kExitInterrupted = 130,  // SIGINT / SIGTERM stopped a job cleanly; it can be resumed
 };
 

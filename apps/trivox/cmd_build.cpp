@@ -53,17 +53,22 @@ void run_build(const BuildOptions& o) {
   const std::array<int, 3> orders = c.volume.orders();
   fmt::print("{}: {} volume, orders {} x {} x {}, control points {} x {} x {}, {}\n", o.spec, r.constructor, orders[0],
              orders[1], orders[2], c.volume.spline().num_ctrl(0), c.volume.spline().num_ctrl(1),
-             c.volume.spline().num_ctrl(2), c.volume.spline().is_rational() ? "rational (NURBS)" : "polynomial (B-spline)");
+             c.volume.spline().num_ctrl(2),
+             c.volume.spline().is_rational() ? "rational (NURBS)" : "polynomial (B-spline)");
   fmt::print("  domain u [{:.6g}, {:.6g}]  v [{:.6g}, {:.6g}]  w [{:.6g}, {:.6g}]\n", d.lo.x, d.hi.x, d.lo.y, d.hi.y,
              d.lo.z, d.hi.z);
   const int samples = r.jacobian.positive + r.jacobian.negative + r.jacobian.zero;
   fmt::print("  jacobian {} ({} samples: {} positive, {} negative, {} zero)\n", r.describe(), samples,
              r.jacobian.positive, r.jacobian.negative, r.jacobian.zero);
-  if (!r.exact) fmt::print("  approximate construction: deviation from the ideal shape up to {:.3g} mm (sampled)\n", r.approximation_error_mm);
+  if (!r.exact)
+    fmt::print("  approximate construction: deviation from the ideal shape up to {:.3g} mm (sampled)\n",
+               r.approximation_error_mm);
   if (r.folds()) {
     if (!o.allow_fold)
-      throw ModelError(fmt::format("{}: the {} volume folds over itself ({}); nothing written (--allow-fold writes it "
-                                   "anyway)", o.spec, r.constructor, r.describe()));
+      throw ModelError(
+          fmt::format("{}: the {} volume folds over itself ({}); nothing written (--allow-fold writes it "
+                      "anyway)",
+                      o.spec, r.constructor, r.describe()));
     std::fflush(stdout);
     fmt::print(stderr, "trivox: warning: the volume folds over itself: {}\n", r.describe());
   }
@@ -81,8 +86,9 @@ void run_build(const BuildOptions& o) {
 void add_build_command(CLI::App& app) {
   auto opts = std::make_shared<BuildOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "build", "Build a volume with a constructor (extrude, ruled, revolve, sweep, coons, shell) from a construction "
-               "file (JSON, as a scene cell's \"geometry\") and save it as an IRIT .itd model.");
+      "build",
+      "Build a volume with a constructor (extrude, ruled, revolve, sweep, coons, shell) from a construction "
+      "file (JSON, as a scene cell's \"geometry\") and save it as an IRIT .itd model.");
   cmd->add_option("spec", opts->spec, "construction file (JSON)")->required();
   cmd->add_option("-o,--output", opts->output, "the model file to write (.itd)")->required();
   cmd->add_option("--name", opts->name, "the object's name in the model file")->capture_default_str();

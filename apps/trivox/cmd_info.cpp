@@ -2,10 +2,10 @@
 // control points, rational or not, parametric domain, the box of the control points (which
 // contains the patch) and, for trivariates with 3D points, a sampled Jacobian check.
 #include <algorithm>
-#include <cctype>
-#include <filesystem>
 #include <array>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -140,8 +140,8 @@ void print_patch_text(int index, const Patch& patch, const JacobianCheckParams& 
 
   if (const auto r = jacobian_of(s, params)) {
     fmt::print("  jacobian {} ({} samples: {} positive, {} negative, {} zero; det J in [{:.6g}, {:.6g}])\n",
-               to_string(r->classification), r->positive + r->negative + r->zero, r->positive,
-               r->negative, r->zero, r->min_det, r->max_det);
+               to_string(r->classification), r->positive + r->negative + r->zero, r->positive, r->negative, r->zero,
+               r->min_det, r->max_det);
   } else if (n == 3) {
     fmt::print("  jacobian not checked: point dimension {} (a field, not a map into 3D)\n", s.point_dim());
   }
@@ -163,7 +163,8 @@ void print_text(const Model& model, const JacobianCheckParams& params) {
 void run_info(const InfoOptions& options) {
   // A scene (JSON) gets the scene summary and the job estimate; models get their patches.
   std::string ext = std::filesystem::path(options.model_path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json") {
     print_scene_info(options.model_path);
     return;
@@ -188,9 +189,11 @@ void run_info(const InfoOptions& options) {
 
 void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
-  cmd->add_option("model", options->model_path, "Model file: IRIT .itd or G+Smo .xml; or a scene (.json) for a job estimate")->required();
+  CLI::App* cmd =
+      app.add_subcommand("info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
+  cmd->add_option("model", options->model_path,
+                  "Model file: IRIT .itd or G+Smo .xml; or a scene (.json) for a job estimate")
+      ->required();
   cmd->add_flag("--json", options->json, "Print one JSON document instead of text");
   cmd->add_option("--jacobian-samples", options->jacobian.samples_per_direction,
                   "Grid points per direction (domain ends included) for the Jacobian check")

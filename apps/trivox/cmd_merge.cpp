@@ -12,7 +12,8 @@ namespace trivox::cli {
 
 void add_merge_command(CLI::App& app) {
   auto dir = std::make_shared<std::string>();
-  CLI::App* cmd = app.add_subcommand("merge", "Join the shard manifests of a job sliced with --shard into manifest.json");
+  CLI::App* cmd =
+      app.add_subcommand("merge", "Join the shard manifests of a job sliced with --shard into manifest.json");
   cmd->add_option("dir", *dir, "Output folder the shards were sliced into")->required();
   cmd->callback([dir] {
     const JobManifest m = merge_shards(*dir);

@@ -40,8 +40,8 @@ const Patch& selected_patch(const Model& model, int index) {
   const std::size_t n = model.patches.size();
   if (n == 0) throw UsageError(fmt::format("--patch {}: {} has no patches", index, model.source));
   if (index >= static_cast<int>(n))
-    throw UsageError(fmt::format("--patch {}: {} has {} patch{} (0 to {})", index, model.source, n,
-                                 n == 1 ? "" : "es", n - 1));
+    throw UsageError(
+        fmt::format("--patch {}: {} has {} patch{} (0 to {})", index, model.source, n, n == 1 ? "" : "es", n - 1));
   return model.patches[static_cast<std::size_t>(index)];
 }
 
@@ -115,17 +115,19 @@ void run_invert(const Model& model, std::optional<int> only_patch, const GlobalS
   if (only_patch) {
     const TensorSpline& s = selected_patch(model, *only_patch).spline;
     if (!is_geometry_trivariate(s))
-      throw UsageError(fmt::format("--patch {} has {} parameter(s) and {} coordinate(s) per point; inverting "
-                                   "needs a trivariate with 3D points (use --eval to evaluate it)",
-                                   *only_patch, s.param_dim(), s.point_dim()));
+      throw UsageError(
+          fmt::format("--patch {} has {} parameter(s) and {} coordinate(s) per point; inverting "
+                      "needs a trivariate with 3D points (use --eval to evaluate it)",
+                      *only_patch, s.param_dim(), s.point_dim()));
     indices.push_back(*only_patch);
   } else {
     for (int i : model.volume_indices())
       if (is_geometry_trivariate(model.patches[static_cast<std::size_t>(i)].spline)) indices.push_back(i);
     if (indices.empty())
-      throw UsageError(fmt::format("{} has no trivariate with 3D points to invert in (use --eval --patch N "
-                                   "to evaluate its patches)",
-                                   model.source));
+      throw UsageError(
+          fmt::format("{} has no trivariate with 3D points to invert in (use --eval --patch N "
+                      "to evaluate its patches)",
+                      model.source));
   }
 
   // The solvers keep pointers to the volumes: build all volumes first, then the solvers.
@@ -144,9 +146,9 @@ void run_invert(const Model& model, std::optional<int> only_patch, const GlobalS
     for (std::size_t k = 0; k < solvers.size(); ++k)
       for (const Preimage& p : results[k].preimages) {
         const double uvw[3] = {p.uvw.x, p.uvw.y, p.uvw.z};
-        preimages += fmt::format("{}{{\"patch\":{},\"uvw\":{},\"residual\":{},\"det\":{}}}",
-                                 preimages.empty() ? "" : ",", solvers[k].patch, json_numbers(uvw),
-                                 json_number(p.residual), json_number(p.det));
+        preimages +=
+            fmt::format("{}{{\"patch\":{},\"uvw\":{},\"residual\":{},\"det\":{}}}", preimages.empty() ? "" : ",",
+                        solvers[k].patch, json_numbers(uvw), json_number(p.residual), json_number(p.det));
       }
     return fmt::format("\"status\":\"{}\",\"preimages\":[{}]", to_string(combined_status(results)), preimages);
   });
@@ -164,10 +166,10 @@ void run_probe(const ProbeOptions& options) {
 
 void add_probe_command(CLI::App& app) {
   auto options = std::make_shared<ProbeOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "probe",
-      "Read points from standard input, one per line: invert model-space points x y z (default) or "
-      "evaluate parameters (--eval --patch N); print one JSON line per point.");
+  CLI::App* cmd =
+      app.add_subcommand("probe",
+                         "Read points from standard input, one per line: invert model-space points x y z (default) or "
+                         "evaluate parameters (--eval --patch N); print one JSON line per point.");
   cmd->add_option("model", options->model_path, "Model file: IRIT .itd or G+Smo .xml")->required();
   CLI::Option* patch = cmd->add_option("--patch", options->patch,
                                        "Patch index (from `trivox info`): the patch to evaluate, or the only "

@@ -61,12 +61,13 @@ class TerminalProgress final : public ProgressSink {
     const int percent = 100 * done / total;
     if (tty_) {
       const int width = 30, filled = width * done / total;
-      fmt::print(stderr, "\r[{:<{}}] {:3d}% layer {}/{}  elapsed {:.0f}s  ETA {:.0f}s ", std::string(static_cast<std::size_t>(filled), '#'),
-                 width, percent, done, total, elapsed, eta);
+      fmt::print(stderr, "\r[{:<{}}] {:3d}% layer {}/{}  elapsed {:.0f}s  ETA {:.0f}s ",
+                 std::string(static_cast<std::size_t>(filled), '#'), width, percent, done, total, elapsed, eta);
       if (done == total) fmt::print(stderr, "\n");
     } else if (percent / 10 != last_decile_ || done == total) {
       last_decile_ = percent / 10;
-      fmt::print(stderr, "trivox: sliced {}/{} layers ({}%), elapsed {:.1f}s, ETA {:.1f}s\n", done, total, percent, elapsed, eta);
+      fmt::print(stderr, "trivox: sliced {}/{} layers ({}%), elapsed {:.1f}s, ETA {:.1f}s\n", done, total, percent,
+                 elapsed, eta);
     }
   }
 
@@ -107,7 +108,8 @@ class OutputRollback {
       std::filesystem::remove_all(dir_, ec);
       return;
     }
-    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) std::filesystem::remove_all(entry.path(), ec);
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
+      std::filesystem::remove_all(entry.path(), ec);
   }
   void commit() noexcept { committed_ = true; }
 
@@ -138,7 +140,9 @@ void run(const SliceOptions& so) {
     check_job_fits(estimate, job, memory_limit_of(o));
   }
   if (!so.quiet)
-    fmt::print(stderr, "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} mm layers)\n",
+    fmt::print(stderr,
+               "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} "
+               "mm layers)\n",
                scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
                L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
   if (!so.quiet) {
@@ -159,26 +163,34 @@ void run(const SliceOptions& so) {
     throw;
   }
   rollback.commit();
-  const std::string manifest = (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
+  const std::string manifest =
+      (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
   if (st.interrupted)
-    throw InterruptedError(fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
-                                       st.layers.size(), manifest));
+    throw InterruptedError(
+        fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
+                    st.layers.size(), manifest));
 
   std::int64_t inside = 0, global = 0;
   for (const LayerStats& s : st.layers) {
     inside += s.pixels_inside;
     global += s.global_calls;
   }
-  fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px,
-             L.height_px, o.output, st.seconds, thread_text(st.threads));
+  fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px, L.height_px,
+             o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
   if (job.shard_count > 1)
-    fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index, job.shard_count, o.output);
+    fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index,
+               job.shard_count, o.output);
   if (st.padded_layers > 0)
-    fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers, job.min_layers);
-  fmt::print("statistics: {}\n", (std::filesystem::path(o.output) / (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count) : std::string("stats.json"))).string());
+    fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers,
+               job.min_layers);
+  fmt::print("statistics: {}\n",
+             (std::filesystem::path(o.output) /
+              (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count)
+                                   : std::string("stats.json")))
+                 .string());
   fmt::print("manifest: {}\n", manifest);
 }
 
@@ -189,8 +201,9 @@ void add_slice_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("slice", "Slice a scene into printer-ready layer images");
   add_job_options(*cmd, opts->job, true);
   cmd->add_flag("-q,--quiet", opts->quiet, "No progress output");
-  cmd->add_flag("--resume", opts->resume,
-                "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
+  cmd->add_flag(
+      "--resume", opts->resume,
+      "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
   cmd->add_option("--manifest-interval", opts->manifest_interval_s,
                   "Seconds between rewrites of manifest.json while layers complete (0: after every layer); a "
                   "killed job redoes at most the layers of one interval")

@@ -30,7 +30,8 @@ void run_validate(const ValidateOptions& v) {
              scene.printer.name);
   print_estimate(e);
   if (!o.output.empty()) {
-    if (const auto free = free_disk_bytes(job.output_dir)) fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
+    if (const auto free = free_disk_bytes(job.output_dir))
+      fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
   }
   if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
   if (!o.no_checks) check_job_fits(e, job, memory_limit_of(o));

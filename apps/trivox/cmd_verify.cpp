@@ -19,7 +19,8 @@ void add_verify_command(CLI::App& app) {
     const VerifyReport r = verify_output(*dir);
     for (const std::string& p : r.problems) fmt::print("{}\n", p);
     if (!r.ok())
-      throw CorruptOutputError(fmt::format("{}: {} problem(s) in {} files checked", *dir, r.problems.size(), r.files_checked));
+      throw CorruptOutputError(
+          fmt::format("{}: {} problem(s) in {} files checked", *dir, r.problems.size(), r.files_checked));
     fmt::print("ok: {} layers, {} files match manifest.json\n", r.manifest.total_layers, r.files_checked);
   });
 }

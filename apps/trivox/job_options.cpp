@@ -66,12 +66,16 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "decided by the exact inverse is twice as wide (default: an eighth of the finest pitch)")
       ->check(CLI::PositiveNumber);
   cmd.add_option("--dither", o.dither,
-                 "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else floyd-steinberg)");
+                 "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else "
+                 "floyd-steinberg)");
   cmd.add_option("--skin", o.skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
   cmd.add_option("--vary-by-layer", o.vary_by_layer,
                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
-  cmd.add_option("--format", o.formats, "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), legacy (1-bit BMPs), tiff (multi-page TIFF), "
-                 "vdb (OpenVDB grid per material), gcvf (GrabCAD Voxel Print package), preview (contact sheet and cuts)")
+  cmd.add_option(
+         "--format", o.formats,
+         "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), legacy (1-bit BMPs), tiff "
+         "(multi-page TIFF), "
+         "vdb (OpenVDB grid per material), gcvf (GrabCAD Voxel Print package), preview (contact sheet and cuts)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))
       ->capture_default_str();
@@ -81,30 +85,36 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   cmd.add_option("--preview", o.preview_layers,
-                 "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours with square pixels")
+                 "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours "
+                 "with square pixels")
       ->delimiter(',');
-  cmd.add_option("--shard", o.shard, "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
-  cmd.add_option("--memory-limit", o.memory_limit_mb, "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
+  cmd.add_option("--shard", o.shard,
+                 "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
+  cmd.add_option("--memory-limit", o.memory_limit_mb,
+                 "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
       ->check(CLI::PositiveNumber);
-  cmd.add_flag("--no-checks", o.no_checks, "Do not refuse a job that the estimates say will not fit the disk or the memory limit");
+  cmd.add_flag("--no-checks", o.no_checks,
+               "Do not refuse a job that the estimates say will not fit the disk or the memory limit");
 }
 
 SliceParams slice_params_of(const JobOptions& o, const Scene& scene) {
   SliceParams params;
   const auto strategy = parse_tracing_strategy(o.tracing);
   if (!strategy)
-    throw UsageError(fmt::format("--tracing must be none, previous-point, previous-line, full, predict or flood, got '{}'",
-                                 o.tracing));
+    throw UsageError(fmt::format(
+        "--tracing must be none, previous-point, previous-line, full, predict or flood, got '{}'", o.tracing));
   params.tracing = *strategy;
   params.newton.residual_tolerance_model = o.residual_tolerance_mm;
   params.outline_tolerance_mm = o.outline_tolerance_mm;
   // Dithering: the scene's settings, with the options given here on top.
   DitherParams dither = scene.dithering.value_or(DitherParams{});
   if (!o.dither.empty() && !set_dither_method(o.dither, dither))
-    throw UsageError(fmt::format("--dither must be one of {}, got '{}'", fmt::join(dither_method_names(), ", "), o.dither));
+    throw UsageError(
+        fmt::format("--dither must be one of {}, got '{}'", fmt::join(dither_method_names(), ", "), o.dither));
   if (o.skin_voxels) {
     if (*o.skin_voxels < 0 || *o.skin_voxels > DitherParams::kMaxSkinVoxels)
-      throw UsageError(fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
+      throw UsageError(
+          fmt::format("--skin takes 0 to {} voxels, got {}", DitherParams::kMaxSkinVoxels, *o.skin_voxels));
     dither.skin_voxels = *o.skin_voxels;
   }
   if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
@@ -139,20 +149,23 @@ std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
 }
 
 void print_estimate(const JobEstimate& e) {
-  fmt::print("  layers: {} ({} of the model, {} empty padding layers)\n", e.job_layers, e.model_layers, e.padded_layers);
+  fmt::print("  layers: {} ({} of the model, {} empty padding layers)\n", e.job_layers, e.model_layers,
+             e.padded_layers);
   fmt::print("  bitmap: {} x {} px, {} voxels in all\n", e.width_px, e.height_px, e.pixels);
   if (e.sampled_layers > 0) {
     // The layer files, the whole-job files and the manifest.
     fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
                static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 1, e.sampled_layers);
     if (e.scratch_bytes > 0)
-      fmt::print("  spool files: about {} more while the job runs (removed when it completes)\n", byte_text(e.scratch_bytes));
+      fmt::print("  spool files: about {} more while the job runs (removed when it completes)\n",
+                 byte_text(e.scratch_bytes));
     fmt::print("  time: about {:.0f} s with {} (sample layers sliced one at a time on this machine now)\n", e.seconds,
                thread_text(e.threads));
   }
   fmt::print("  peak memory: about {} with {}{}\n", byte_text(e.peak_memory_bytes), thread_text(e.threads),
-             e.stack_memory_bytes > 0 ? fmt::format(" ({} of it for the stack outputs)", byte_text(e.stack_memory_bytes))
-                                      : std::string());
+             e.stack_memory_bytes > 0
+                 ? fmt::format(" ({} of it for the stack outputs)", byte_text(e.stack_memory_bytes))
+                 : std::string());
 }
 
 }  // namespace trivox::cli

@@ -27,9 +27,9 @@ struct JobOptions {
   std::string tracing = std::string(to_string(SliceParams{}.tracing));
   double residual_tolerance_mm = SliceParams{}.newton.residual_tolerance_model;
   std::optional<double> outline_tolerance_mm;  // absent: the slicer's default
-  std::string dither;                 // empty: the scene's method
-  std::optional<int> skin_voxels;     // unset: the scene's
-  std::optional<bool> vary_by_layer;  // unset: the scene's
+  std::string dither;                          // empty: the scene's method
+  std::optional<int> skin_voxels;              // unset: the scene's
+  std::optional<bool> vary_by_layer;           // unset: the scene's
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
   std::vector<int> background{255, 255, 255, 255};

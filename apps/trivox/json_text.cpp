@@ -7,9 +7,7 @@
 
 namespace trivox::cli {
 
-std::string json_number(double x) {
-  return std::isfinite(x) ? fmt::format("{:.17g}", x) : std::string("null");
-}
+std::string json_number(double x) { return std::isfinite(x) ? fmt::format("{:.17g}", x) : std::string("null"); }
 
 std::string json_numbers(std::span<const double> xs) {
   std::string out = "[";

@@ -29,9 +29,10 @@ int fail(trivox::cli::ExitCode code, std::string_view kind, std::string_view mes
 int main(int argc, char** argv) {
   using namespace trivox::cli;
   try {
-    CLI::App app{"trivox: slices functionally graded material objects made of trivariate "
-                 "B-spline and NURBS volumes.",
-                 "trivox"};
+    CLI::App app{
+        "trivox: slices functionally graded material objects made of trivariate "
+        "B-spline and NURBS volumes.",
+        "trivox"};
     app.require_subcommand(1);
     for (const AddCommand add : kCommands) add(app);
     // CLI11 reports a misspelt command as "A subcommand is required"; name it instead.
@@ -51,8 +52,7 @@ int main(int argc, char** argv) {
       return app.exit(e) == 0 ? kExitOk : kExitUsage;
     }
     if (std::fflush(stdout) != 0 || std::ferror(stdout))
-      return fail(kExitIo, "error",
-                  fmt::format("cannot write to standard output: {}", std::strerror(errno)));
+      return fail(kExitIo, "error", fmt::format("cannot write to standard output: {}", std::strerror(errno)));
     return kExitOk;
   } catch (const UsageError& e) {
     const int code = fail(kExitUsage, "usage error", e.what());

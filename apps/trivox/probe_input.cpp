@@ -10,9 +10,7 @@ namespace trivox::cli {
 
 namespace {
 
-bool is_separator(char c) noexcept {
-  return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || c == ',';
-}
+bool is_separator(char c) noexcept { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || c == ','; }
 
 // Shortens a token quoted in a message, so a long garbage line gives a readable error.
 std::string quoted(std::string_view token) {

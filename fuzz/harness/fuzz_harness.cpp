@@ -138,16 +138,21 @@ void prepare_scene_dir(const std::filesystem::path& dir, const std::filesystem::
              " </Geometry>\n</xml>\n");
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(examples_models, ec))
-    if (entry.is_regular_file()) fs::copy_file(entry.path(), dir / "models" / entry.path().filename(),
-                                               fs::copy_options::overwrite_existing);
+    if (entry.is_regular_file())
+      fs::copy_file(entry.path(), dir / "models" / entry.path().filename(), fs::copy_options::overwrite_existing);
 }
 
 bool run_target(std::string_view target, std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir) {
-  if (target == "itd") run_itd(data);
-  else if (target == "gismo_xml") run_gismo_xml(data);
-  else if (target == "scene") run_scene(data, scene_dir);
-  else if (target == "expression") run_expression(data);
-  else return false;
+  if (target == "itd")
+    run_itd(data);
+  else if (target == "gismo_xml")
+    run_gismo_xml(data);
+  else if (target == "scene")
+    run_scene(data, scene_dir);
+  else if (target == "expression")
+    run_expression(data);
+  else
+    return false;
   return true;
 }
 

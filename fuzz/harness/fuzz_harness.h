@@ -46,7 +46,6 @@ void run_expression(std::span<const std::uint8_t> data);
 void prepare_scene_dir(const std::filesystem::path& dir, const std::filesystem::path& examples_models);
 
 // Dispatches on a target name from kTargets (false for an unknown name).
-bool run_target(std::string_view target, std::span<const std::uint8_t> data,
-                const std::filesystem::path& scene_dir);
+bool run_target(std::string_view target, std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir);
 
 }  // namespace trivox::fuzz

@@ -26,9 +26,7 @@ inline Vec3 cross(Vec3 a, Vec3 b) noexcept {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 inline double norm(Vec3 a) noexcept { return std::sqrt(dot(a, a)); }
-inline double max_abs(Vec3 a) noexcept {
-  return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)});
-}
+inline double max_abs(Vec3 a) noexcept { return std::max({std::abs(a.x), std::abs(a.y), std::abs(a.z)}); }
 
 // Row-major 3x3 matrix. As a Jacobian of V(u,v,w): column c is dV/d(param c), i.e.
 // m[r][c] = d V_r / d p_c.
@@ -37,13 +35,10 @@ struct Mat3 {
 
   Vec3 column(int c) const noexcept { return {m[0][c], m[1][c], m[2][c]}; }
   Vec3 operator*(Vec3 v) const noexcept {
-    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z,
-            m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
+    return {m[0][0] * v.x + m[0][1] * v.y + m[0][2] * v.z, m[1][0] * v.x + m[1][1] * v.y + m[1][2] * v.z,
             m[2][0] * v.x + m[2][1] * v.y + m[2][2] * v.z};
   }
-  double determinant() const noexcept {
-    return dot(column(0), cross(column(1), column(2)));
-  }
+  double determinant() const noexcept { return dot(column(0), cross(column(1), column(2))); }
 };
 
 // Solves J d = r by Cramer's rule. Returns false (and leaves d alone) when |det J| is not
@@ -83,13 +78,16 @@ struct Box3 {
     hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
   }
   void expand(const Box3& b) noexcept {
-    if (!b.empty()) { expand(b.lo); expand(b.hi); }
+    if (!b.empty()) {
+      expand(b.lo);
+      expand(b.hi);
+    }
   }
   Vec3 size() const noexcept { return hi - lo; }
   double diagonal() const noexcept { return empty() ? 0.0 : norm(size()); }
   bool contains(Vec3 p, double tol = 0.0) const noexcept {
-    return p.x >= lo.x - tol && p.x <= hi.x + tol && p.y >= lo.y - tol && p.y <= hi.y + tol &&
-           p.z >= lo.z - tol && p.z <= hi.z + tol;
+    return p.x >= lo.x - tol && p.x <= hi.x + tol && p.y >= lo.y - tol && p.y <= hi.y + tol && p.z >= lo.z - tol &&
+           p.z <= hi.z + tol;
   }
 };
 
@@ -98,8 +96,8 @@ struct ParamBox {
   Vec3 lo, hi;
 
   bool contains(Vec3 p, double tol = 0.0) const noexcept {
-    return p.x >= lo.x - tol && p.x <= hi.x + tol && p.y >= lo.y - tol && p.y <= hi.y + tol &&
-           p.z >= lo.z - tol && p.z <= hi.z + tol;
+    return p.x >= lo.x - tol && p.x <= hi.x + tol && p.y >= lo.y - tol && p.y <= hi.y + tol && p.z >= lo.z - tol &&
+           p.z <= hi.z + tol;
   }
   Vec3 clamp(Vec3 p) const noexcept {
     return {std::clamp(p.x, lo.x, hi.x), std::clamp(p.y, lo.y, hi.y), std::clamp(p.z, lo.z, hi.z)};

@@ -56,8 +56,8 @@ TensorSpline stack_layers(const std::vector<TensorSpline>& layers, const KnotVec
   return TensorSpline(std::move(knots), 3, std::move(pts), std::move(w));
 }
 
-Constructed finish(const std::string& constructor, TensorSpline spline, const JacobianCheckParams& check,
-                   bool exact, double approximation_error_mm) {
+Constructed finish(const std::string& constructor, TensorSpline spline, const JacobianCheckParams& check, bool exact,
+                   double approximation_error_mm) {
   Volume volume(std::move(spline));
   ConstructionReport report = inspect_volume(volume, check);
   report.constructor = constructor;

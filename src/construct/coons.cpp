@@ -53,7 +53,8 @@ void check_edge(const std::array<TensorSpline, 6>& f, int a, int b, const char* 
 Constructed coons(const std::array<TensorSpline, 6>& faces, const CoonsParams& params) {
   std::array<TensorSpline, 6> f = faces;
   for (int i = 0; i < 6; ++i)
-    f[static_cast<std::size_t>(i)] = detail::checked_surface(f[static_cast<std::size_t>(i)], fmt::format("Coons face {}", coons_face_name(i)));
+    f[static_cast<std::size_t>(i)] =
+        detail::checked_surface(f[static_cast<std::size_t>(i)], fmt::format("Coons face {}", coons_face_name(i)));
   bool rational = false;
   for (const TensorSpline& s : f) rational = rational || s.is_rational();
   if (rational)
@@ -77,18 +78,39 @@ Constructed coons(const std::array<TensorSpline, 6>& faces, const CoonsParams& p
   // Edges along w: (u = a, v = b) shared by faces u_a and v_b.
   for (int a = 0; a < 2; ++a)
     for (int b = 0; b < 2; ++b)
-      check_edge(f, kFaceU0 + a, kFaceV0 + b, fmt::format("u={}, v={}", a, b).c_str(), nw,
-                 [&](int t) { return IJ{b ? nv - 1 : 0, t}; }, [&](int t) { return IJ{a ? nu - 1 : 0, t}; }, tol);
+      check_edge(
+          f, kFaceU0 + a, kFaceV0 + b, fmt::format("u={}, v={}", a, b).c_str(), nw,
+          [&](int t) {
+            return IJ{b ? nv - 1 : 0, t};
+          },
+          [&](int t) {
+            return IJ{a ? nu - 1 : 0, t};
+          },
+          tol);
   // Edges along v: (u = a, w = c), faces u_a and w_c.
   for (int a = 0; a < 2; ++a)
     for (int c = 0; c < 2; ++c)
-      check_edge(f, kFaceU0 + a, kFaceW0 + c, fmt::format("u={}, w={}", a, c).c_str(), nv,
-                 [&](int t) { return IJ{t, c ? nw - 1 : 0}; }, [&](int t) { return IJ{a ? nu - 1 : 0, t}; }, tol);
+      check_edge(
+          f, kFaceU0 + a, kFaceW0 + c, fmt::format("u={}, w={}", a, c).c_str(), nv,
+          [&](int t) {
+            return IJ{t, c ? nw - 1 : 0};
+          },
+          [&](int t) {
+            return IJ{a ? nu - 1 : 0, t};
+          },
+          tol);
   // Edges along u: (v = b, w = c), faces v_b and w_c.
   for (int b = 0; b < 2; ++b)
     for (int c = 0; c < 2; ++c)
-      check_edge(f, kFaceV0 + b, kFaceW0 + c, fmt::format("v={}, w={}", b, c).c_str(), nu,
-                 [&](int t) { return IJ{t, c ? nw - 1 : 0}; }, [&](int t) { return IJ{t, b ? nv - 1 : 0}; }, tol);
+      check_edge(
+          f, kFaceV0 + b, kFaceW0 + c, fmt::format("v={}, w={}", b, c).c_str(), nu,
+          [&](int t) {
+            return IJ{t, c ? nw - 1 : 0};
+          },
+          [&](int t) {
+            return IJ{t, b ? nv - 1 : 0};
+          },
+          tol);
 
   const std::vector<double> xu = greville_abscissae(ku), xv = greville_abscissae(kv), xw = greville_abscissae(kw);
   const auto U = [&](int a, int j, int k) { return hom(*F(kFaceU0 + a), j, k); };
@@ -119,9 +141,10 @@ Constructed coons(const std::array<TensorSpline, 6>& faces, const CoonsParams& p
             for (int c = 0; c < 2; ++c) acc(bu[a] * bv[b] * bw[c], U(a, je[b], ke[c]));
           }
         if (!(sum[3] > 0.0))
-          throw ModelError(fmt::format("the Coons blend of these rational faces has a non-positive weight {} at control "
-                                       "point ({}, {}, {}); give the faces compatible weights",
-                                       sum[3], i, j, k));
+          throw ModelError(
+              fmt::format("the Coons blend of these rational faces has a non-positive weight {} at control "
+                          "point ({}, {}, {}); give the faces compatible weights",
+                          sum[3], i, j, k));
         pts.insert(pts.end(), {sum[0] / sum[3], sum[1] / sum[3], sum[2] / sum[3]});
         wts.push_back(sum[3]);
       }
@@ -168,13 +191,16 @@ std::array<TensorSpline, 6> arrange_cube_faces(const std::vector<TensorSpline>& 
     ids.push_back(c);
   }
   if (vertices.size() != 8)
-    throw ModelError(fmt::format("the corners of the six faces make {} distinct points, not the 8 of a cube", vertices.size()));
+    throw ModelError(
+        fmt::format("the corners of the six faces make {} distinct points, not the 8 of a cube", vertices.size()));
   // Edges of the vertex graph, from the faces' sides.
   std::vector<std::array<bool, 8>> adjacent(8);
   for (const auto& c : ids)
     for (const auto& [a, b] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 3}, std::pair{2, 3}}) {
-      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])][static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] = true;
-      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])][static_cast<std::size_t>(c[static_cast<std::size_t>(a)])] = true;
+      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])]
+              [static_cast<std::size_t>(c[static_cast<std::size_t>(b)])] = true;
+      adjacent[static_cast<std::size_t>(c[static_cast<std::size_t>(b)])]
+              [static_cast<std::size_t>(c[static_cast<std::size_t>(a)])] = true;
     }
   // Volume corner (i, j, k) -> vertex: face 0 is w = 0, each of its corners' one neighbour
   // off face 0 is the corner above it.
@@ -186,10 +212,13 @@ std::array<TensorSpline, 6> arrange_cube_faces(const std::vector<TensorSpline>& 
     for (int w = 0; w < 8; ++w)
       if (adjacent[static_cast<std::size_t>(v)][static_cast<std::size_t>(w)] &&
           std::find(ids[0].begin(), ids[0].end(), w) == ids[0].end()) {
-        if (above >= 0) throw ModelError("the six faces do not meet like the faces of a cube (a corner has more than 3 edges)");
+        if (above >= 0)
+          throw ModelError("the six faces do not meet like the faces of a cube (a corner has more than 3 edges)");
         above = w;
       }
-    if (above < 0) throw ModelError("the six faces do not meet like the faces of a cube (a corner of the first face has no edge off it)");
+    if (above < 0)
+      throw ModelError(
+          "the six faces do not meet like the faces of a cube (a corner of the first face has no edge off it)");
     at[static_cast<std::size_t>(q + 4)] = above;
   }
   std::array<TensorSpline, 6> out{f[0], f[0], f[0], f[0], f[0], f[0]};
@@ -234,8 +263,10 @@ std::array<TensorSpline, 6> arrange_cube_faces(const std::vector<TensorSpline>& 
       }
     }
     if (!found)
-      throw ModelError(fmt::format("no face of the shell has the corners of the Coons face {}: the faces do not meet like "
-                                   "the faces of a cube", coons_face_name(face)));
+      throw ModelError(
+          fmt::format("no face of the shell has the corners of the Coons face {}: the faces do not meet like "
+                      "the faces of a cube",
+                      coons_face_name(face)));
   }
   return out;
 }

@@ -40,7 +40,8 @@ TensorSpline join_surfaces(const std::vector<std::vector<TensorSpline>>& grid, c
   Box3 box;
   for (std::size_t r = 0; r < rows; ++r) {
     if (grid[r].size() != cols)
-      throw ModelError(fmt::format("row {} of the grid of surfaces has {} patches, row 0 has {}", r, grid[r].size(), cols));
+      throw ModelError(
+          fmt::format("row {} of the grid of surfaces has {} patches, row 0 has {}", r, grid[r].size(), cols));
     for (std::size_t c = 0; c < cols; ++c) {
       g[r].push_back(detail::checked_surface(grid[r][c], fmt::format("patch (row {}, column {})", r, c)));
       const TensorSpline& s = g[r].back();
@@ -73,9 +74,10 @@ TensorSpline join_surfaces(const std::vector<std::vector<TensorSpline>>& grid, c
     const double d = norm(detail::to_vec3(pa) - detail::to_vec3(pb));
     const double wa = a.weight(ia, ja), wb = b.weight(ib, jb);
     if (d > tol || std::abs(wa - wb) > 1e-9 * std::max(wa, wb))
-      throw ModelError(fmt::format("{}: control points differ by {:.6g}{} (each patch's u must run along its row "
-                                   "and v along its column, in the same direction as its neighbours')",
-                                   what, d, std::abs(wa - wb) > 1e-9 * std::max(wa, wb) ? " and in weight" : ""));
+      throw ModelError(
+          fmt::format("{}: control points differ by {:.6g}{} (each patch's u must run along its row "
+                      "and v along its column, in the same direction as its neighbours')",
+                      what, d, std::abs(wa - wb) > 1e-9 * std::max(wa, wb) ? " and in weight" : ""));
   };
   for (std::size_t r = 0; r < rows; ++r)
     for (std::size_t c = 0; c < cols; ++c) {

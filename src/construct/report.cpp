@@ -23,8 +23,8 @@ void add(JacobianRegion& r, Vec3 uvw) {
 }
 
 std::string box_text(const ParamBox& b) {
-  return fmt::format("u [{:.4g}, {:.4g}] v [{:.4g}, {:.4g}] w [{:.4g}, {:.4g}]", b.lo.x, b.hi.x, b.lo.y, b.hi.y,
-                     b.lo.z, b.hi.z);
+  return fmt::format("u [{:.4g}, {:.4g}] v [{:.4g}, {:.4g}] w [{:.4g}, {:.4g}]", b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z,
+                     b.hi.z);
 }
 
 }  // namespace
@@ -46,8 +46,10 @@ ConstructionReport inspect_volume(const Volume& volume, const JacobianCheckParam
         Mat3 J;
         volume.evaluate_jacobian(uvw, p, J);
         const double det = J.determinant();
-        if (std::abs(det) <= zero) add(r.zero, uvw);
-        else if ((det < 0) == minority_negative) add(r.minority_sign, uvw);
+        if (std::abs(det) <= zero)
+          add(r.zero, uvw);
+        else if ((det < 0) == minority_negative)
+          add(r.minority_sign, uvw);
       }
   return r;
 }

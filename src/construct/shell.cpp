@@ -42,8 +42,8 @@ TensorSpline offset(const TensorSpline& s, double d) {
   const KnotVector &ku = s.knots(0), &kv = s.knots(1);
   const std::vector<double> xu = greville_abscissae(ku), xv = greville_abscissae(kv);
   const std::size_t nu = xu.size(), nv = xv.size();
-  const TensorSpline wfun = s.is_rational() ? TensorSpline(s.all_knots(), 1, std::vector<double>(s.weights().begin(), s.weights().end()))
-                                            : s;
+  const TensorSpline wfun =
+      s.is_rational() ? TensorSpline(s.all_knots(), 1, std::vector<double>(s.weights().begin(), s.weights().end())) : s;
   // values[i][j][c], i (u) major, for the solve along u with nv * 3 columns.
   std::vector<double> values(nu * nv * 3);
   for (std::size_t j = 0; j < nv; ++j)
@@ -118,7 +118,8 @@ Constructed thick_shell(const TensorSpline& surface, const ShellParams& params) 
   const double d1 = d0 + t;
   const TensorSpline inner = offset(s, d0), outer = offset(s, d1);
   const double error = std::max(offset_error(s, inner, d0), offset_error(s, outer, d1));
-  return detail::finish("shell", detail::stack_layers({inner, outer}, KnotVector::bezier(2)), params.check, false, error);
+  return detail::finish("shell", detail::stack_layers({inner, outer}, KnotVector::bezier(2)), params.check, false,
+                        error);
 }
 
 }  // namespace trivox

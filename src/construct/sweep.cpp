@@ -81,8 +81,10 @@ void place(const std::vector<Vec3>& local, const Station& s, double angle, std::
 Constructed sweep(const TensorSpline& section_in, const TensorSpline& path_in, const SweepParams& params) {
   const TensorSpline section = detail::checked_surface(section_in, "swept section");
   if (path_in.param_dim() != 1 || path_in.point_dim() != 3)
-    throw ModelError(fmt::format("the sweep path must be a curve (1 parameter) with 3D points, not {} parameter(s) "
-                                 "and {} coordinate(s)", path_in.param_dim(), path_in.point_dim()));
+    throw ModelError(
+        fmt::format("the sweep path must be a curve (1 parameter) with 3D points, not {} parameter(s) "
+                    "and {} coordinate(s)",
+                    path_in.param_dim(), path_in.point_dim()));
   if (params.stations < 4) throw ModelError(fmt::format("a sweep needs at least 4 stations, not {}", params.stations));
   const TensorSpline path = clamped(path_in);
   const Box3 section_box = section.control_box();
@@ -91,7 +93,8 @@ Constructed sweep(const TensorSpline& section_in, const TensorSpline& path_in, c
   for (int p = 0; p < section.total_ctrl(); ++p) {
     const Vec3 q = detail::to_vec3(section.points().subspan(static_cast<std::size_t>(3 * p), 3));
     if (std::abs(q.z) > 1e-9 * section_size)
-      throw ModelError(fmt::format("the swept section must lie in its plane z = 0: control point {} has z = {}", p, q.z));
+      throw ModelError(
+          fmt::format("the swept section must lie in its plane z = 0: control point {} has z = {}", p, q.z));
     local.push_back(q);
   }
   const double scale = std::max(path.control_box().diagonal(), section_size);
@@ -106,7 +109,7 @@ Constructed sweep(const TensorSpline& section_in, const TensorSpline& path_in, c
     const Vec3 t = start.tangent;
     x0 = (std::abs(t.x) <= std::abs(t.y) && std::abs(t.x) <= std::abs(t.z)) ? Vec3{1, 0, 0}
          : (std::abs(t.y) <= std::abs(t.z))                                 ? Vec3{0, 1, 0}
-                                                                             : Vec3{0, 0, 1};
+                                                                            : Vec3{0, 0, 1};
   }
   x0 = x0 - dot(x0, start.tangent) * start.tangent;
   x0 = detail::unit(x0, "the initial x direction of the section (projected normal to the path's tangent)");
@@ -122,7 +125,8 @@ Constructed sweep(const TensorSpline& section_in, const TensorSpline& path_in, c
 
   // Placements, one row of 3 * ctrl values per station, interpolated along w.
   std::vector<double> rows;
-  for (int k = 0; k < n; ++k) place(local, st[static_cast<std::size_t>(k)], angle_at(static_cast<double>(k) / (n - 1)), rows);
+  for (int k = 0; k < n; ++k)
+    place(local, st[static_cast<std::size_t>(k)], angle_at(static_cast<double>(k) / (n - 1)), rows);
   std::vector<double> s(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) s[static_cast<std::size_t>(k)] = static_cast<double>(k) / (n - 1);
   const int order = std::min(4, n);

@@ -58,9 +58,7 @@ class Objective {
     }
   }
 
-  std::size_t num_samples() const {
-    return samples_[0].size() * samples_[1].size() * samples_[2].size();
-  }
+  std::size_t num_samples() const { return samples_[0].size() * samples_[1].size() * samples_[2].size(); }
 
   // det J at every sample for control points `p` (3 per point, all points).
   std::vector<double> dets(const std::vector<double>& p) const {
@@ -168,9 +166,11 @@ double untangle_objective(const TensorSpline& s, int samples_per_span, double si
 UntangleResult untangle(const TensorSpline& volume, const UntangleParams& params) {
   if (volume.param_dim() != 3 || volume.point_dim() != 3)
     throw ModelError("untangle: expected a trivariate with 3D points");
-  if (volume.is_rational()) throw ModelError("untangle: the volume is rational; only polynomial volumes can be untangled");
+  if (volume.is_rational())
+    throw ModelError("untangle: the volume is rational; only polynomial volumes can be untangled");
   for (int d = 0; d < 3; ++d)
-    if (volume.knots(d).is_periodic()) throw ModelError("untangle: the volume is periodic; only clamped volumes can be untangled");
+    if (volume.knots(d).is_periodic())
+      throw ModelError("untangle: the volume is periodic; only clamped volumes can be untangled");
   if (params.knots_per_span < 0 || params.knots_per_span > 8)
     throw ModelError(fmt::format("untangle: knots_per_span must be 0 to 8, got {}", params.knots_per_span));
   if (params.samples_per_span < 1 || params.iterations < 0 || !(params.target_relative > 0.0))

@@ -36,8 +36,10 @@ Box3 BezierNet::bounds() const {
         hi[c] = v > hi[c] ? v : hi[c];
       }
   };
-  if (polynomial) sweep([](const H& p, std::size_t c) { return p[c]; });
-  else sweep([](const H& p, std::size_t c) { return p[c] / p[3]; });
+  if (polynomial)
+    sweep([](const H& p, std::size_t c) { return p[c]; });
+  else
+    sweep([](const H& p, std::size_t c) { return p[c] / p[3]; });
   Box3 b;
   if (h.empty()) return b;
   b.lo = {lo[0], lo[1], lo[2]};
@@ -155,8 +157,10 @@ bool invert3(const Mat3& C, Mat3& A) {
     for (int j = 0; j < 3; ++j) {
       const int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       A.m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] =
-          (C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j1)] * C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j2)] -
-           C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j2)] * C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j1)]) /
+          (C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j1)] *
+               C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j2)] -
+           C.m[static_cast<std::size_t>(i1)][static_cast<std::size_t>(j2)] *
+               C.m[static_cast<std::size_t>(i2)][static_cast<std::size_t>(j1)]) /
           det;
     }
   return true;
@@ -196,8 +200,8 @@ bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre
   return max_row_sum(contraction_bound(A, jac_lo, jac_hi)) < 1.0;
 }
 
-BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi,
-                            const Mat3& centre_jacobian, Vec3 centre_value, Vec3 x, double tolerance) {
+BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian,
+                            Vec3 centre_value, Vec3 x, double tolerance) {
   Mat3 A;
   if (!invert3(centre_jacobian, A)) return BoxVerdict::kUndecided;
   const Mat3 m = contraction_bound(A, jac_lo, jac_hi);

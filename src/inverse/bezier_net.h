@@ -81,7 +81,7 @@ bool injective_on_box(const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre
 // the box along some direction the box holds no root; otherwise, when ||I - A J(box)|| < 1,
 // the map is one-to-one on it (see injective_on_box).
 enum class BoxVerdict { kUndecided, kNoRoot, kInjective };
-BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi,
-                            const Mat3& centre_jacobian, Vec3 centre_value, Vec3 x, double tolerance);
+BoxVerdict krawczyk_verdict(const ParamBox& box, const Mat3& jac_lo, const Mat3& jac_hi, const Mat3& centre_jacobian,
+                            Vec3 centre_value, Vec3 x, double tolerance);
 
 }  // namespace trivox::detail

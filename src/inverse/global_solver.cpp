@@ -231,11 +231,16 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
   int regular = 0;
   for (std::size_t i = 0; i < n; ++i)
     if (!singular[i]) ++regular;
-  if (exhausted) result.status = GlobalStatus::kIncomplete;
-  else if (result.preimages.empty()) result.status = GlobalStatus::kNone;
-  else if (regular >= 2) result.status = GlobalStatus::kMultiple;
-  else if (regular == 1) result.status = GlobalStatus::kUnique;
-  else result.status = GlobalStatus::kDegenerate;
+  if (exhausted)
+    result.status = GlobalStatus::kIncomplete;
+  else if (result.preimages.empty())
+    result.status = GlobalStatus::kNone;
+  else if (regular >= 2)
+    result.status = GlobalStatus::kMultiple;
+  else if (regular == 1)
+    result.status = GlobalStatus::kUnique;
+  else
+    result.status = GlobalStatus::kDegenerate;
   return result;
 }
 

@@ -13,7 +13,8 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
 
 // The first-order prediction seed + J^-1 (x - seed_x) from a solved neighbour, clamped to the
 // domain (the seed itself when J is singular).
-inline Vec3 predict_from_seed(const ParamBox& domain, Vec3 x, Vec3 seed_uvw, Vec3 seed_x, const Mat3& seed_jacobian) noexcept {
+inline Vec3 predict_from_seed(const ParamBox& domain, Vec3 x, Vec3 seed_uvw, Vec3 seed_x,
+                              const Mat3& seed_jacobian) noexcept {
   Vec3 d;
   return solve3(seed_jacobian, x - seed_x, d, 0.0) ? domain.clamp(seed_uvw + d) : seed_uvw;
 }
@@ -32,10 +33,10 @@ InverseResult invert_traced(const Volume& volume, Vec3 x, Vec3 seed_uvw, Vec3 se
 // and certified_step_residual() places it within the tolerance. Costs no evaluation.
 struct NewtonStepCheck {
   bool converged = false;
-  Vec3 uvw;               // when converged: t or t + d
-  double residual = 0;    // when converged: |x - p|, or the certified bound at t + d
-  bool stepped = false;   // not converged, but t + d was solved and lies in the domain
-  Vec3 target;            // t + d when stepped
+  Vec3 uvw;              // when converged: t or t + d
+  double residual = 0;   // when converged: |x - p|, or the certified bound at t + d
+  bool stepped = false;  // not converged, but t + d was solved and lies in the domain
+  Vec3 target;           // t + d when stepped
 };
 NewtonStepCheck check_newton_step(const Volume& volume, Vec3 x, Vec3 t, Vec3 p, const Mat3& J,
                                   const InverseParams& params) noexcept;

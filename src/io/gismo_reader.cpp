@@ -46,8 +46,8 @@ struct GeometryType {
   bool rational;
 };
 constexpr GeometryType kGeometryTypes[] = {
-    {"BSpline", 1, false},        {"Nurbs", 1, true},         {"TensorBSpline2", 2, false},
-    {"TensorBSpline3", 3, false}, {"TensorNurbs2", 2, true},  {"TensorNurbs3", 3, true},
+    {"BSpline", 1, false},        {"Nurbs", 1, true},        {"TensorBSpline2", 2, false},
+    {"TensorBSpline3", 3, false}, {"TensorNurbs2", 2, true}, {"TensorNurbs3", 3, true},
 };
 
 // Basis labels are checked for their kind only: the structure (child bases, weights) fixes
@@ -87,10 +87,11 @@ Model GismoReader::read() {
   pugi::xml_document doc;
   // Comments before the <?xml ...?> declaration (six of the G+Smo files have one) are not
   // well-formed XML; pugixml skips the declaration wherever it stands, so they read fine.
-  const pugi::xml_parse_result parsed = doc.load_buffer(text_.data(), text_.size(), pugi::parse_default,
-                                                        pugi::encoding_utf8);
+  const pugi::xml_parse_result parsed =
+      doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
   if (!parsed)
-    throw InputError(source, ctx_.line_at(parsed.offset), "", fmt::format("XML syntax error: {}", parsed.description()));
+    throw InputError(source, ctx_.line_at(parsed.offset), "",
+                     fmt::format("XML syntax error: {}", parsed.description()));
   const pugi::xml_node root = doc.document_element();
   if (!root) throw InputError(source, 0, "", "the file holds no XML element");
   if (std::string_view(root.name()) != "xml")
@@ -153,8 +154,7 @@ std::vector<std::int64_t> GismoReader::listed_ids(pugi::xml_node patches) const 
   if (type == "id_index") return ids;
   if (type != "id_range")
     ctx_.fail(patches, fmt::format("patches type '{}' is unknown (expected id_range or id_index)", type));
-  if (ids.size() != 2 || ids[0] > ids[1])
-    ctx_.fail(patches, "an id_range holds two ids, first <= last");
+  if (ids.size() != 2 || ids[0] > ids[1]) ctx_.fail(patches, "an id_range holds two ids, first <= last");
   if (ids[1] - ids[0] >= kMaxRangePatches)
     ctx_.fail(patches, fmt::format("the id range {}..{} lists more than {} patches", ids[0], ids[1], kMaxRangePatches));
   std::vector<std::int64_t> range;
@@ -162,8 +162,7 @@ std::vector<std::int64_t> GismoReader::listed_ids(pugi::xml_node patches) const 
   return range;
 }
 
-std::int64_t GismoReader::int_attribute(pugi::xml_node node, const char* name, std::int64_t lo,
-                                        std::int64_t hi) const {
+std::int64_t GismoReader::int_attribute(pugi::xml_node node, const char* name, std::int64_t lo, std::int64_t hi) const {
   const pugi::xml_attribute a = node.attribute(name);
   if (!a) ctx_.fail(node, fmt::format("<{}> has no {} attribute", node.name(), name));
   const auto v = io_detail::parse_integer(a.value());
@@ -233,8 +232,8 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
                                  values.size(), total));
   }
   if (static_cast<std::int64_t>(values.size()) != total * geo_dim)
-    ctx_.fail(coefs, fmt::format("<coefs> holds {} numbers; {} basis functions times geoDim {} need {}",
-                                 values.size(), total, geo_dim, total * geo_dim));
+    ctx_.fail(coefs, fmt::format("<coefs> holds {} numbers; {} basis functions times geoDim {} need {}", values.size(),
+                                 total, geo_dim, total * geo_dim));
   try {
     return TensorSpline(std::move(knots), static_cast<int>(geo_dim), std::move(values), std::move(weights));
   } catch (const ModelError& e) {
@@ -245,8 +244,8 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
 std::vector<KnotVector> GismoReader::read_bspline_basis(pugi::xml_node basis, int dim) const {
   const std::string_view type = basis.attribute("type").value();
   if (!is_bspline_basis(type))
-    ctx_.fail(basis, fmt::format("expected a B-spline basis (BSplineBasis or TensorBSplineBasis<d>), found type '{}'",
-                                 type));
+    ctx_.fail(basis,
+              fmt::format("expected a B-spline basis (BSplineBasis or TensorBSplineBasis<d>), found type '{}'", type));
   if (dim == 1) return {read_knot_vector(only_child(ctx_, basis, "KnotVector"))};
   std::vector<KnotVector> knots;
   for (pugi::xml_node child : basis.children("Basis")) {
@@ -269,7 +268,8 @@ KnotVector GismoReader::read_knot_vector(pugi::xml_node kv) const {
       // mode="uniform" csize="n": clamped uniform knots on [0, 1] for n basis functions
       // (gsXml<gsKnotVector>::get_into).
       if (std::string_view(mode.value()) != "uniform")
-        ctx_.unsupported(kv, fmt::format("KnotVector mode '{}' is not supported (only mode=\"uniform\")", mode.value()));
+        ctx_.unsupported(kv,
+                         fmt::format("KnotVector mode '{}' is not supported (only mode=\"uniform\")", mode.value()));
       const int csize = static_cast<int>(int_attribute(kv, "csize", 1, kMaxControlPoints));
       return KnotVector::clamped_uniform(degree + 1, csize);
     }

@@ -126,8 +126,7 @@ std::vector<double> XmlContext::read_ascii(pugi::xml_node node) const {
         // G+Smo writes exact rationals as fractions: "1/3".
         const auto num = parse_double(token.substr(0, slash));
         const auto den = parse_double(token.substr(slash + 1));
-        if (num && den && *den == 0.0)
-          fail_at(line, node, fmt::format("fraction '{}' has a zero denominator", token));
+        if (num && den && *den == 0.0) fail_at(line, node, fmt::format("fraction '{}' has a zero denominator", token));
         if (num && den) v = *num / *den;
       } else {
         v = parse_double(token);

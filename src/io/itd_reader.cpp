@@ -208,7 +208,8 @@ void ItdParser::parse_model(const Token& open) {
     const Token t = tok_.next();
     if (t.is_close()) break;
     if (t.is_end()) fail_eof(where, open);
-    if (!t.is_open()) fail(t.line, where, fmt::format("unexpected {} in the MODEL: expected '[' or ']'", itd::describe(t)));
+    if (!t.is_open())
+      fail(t.line, where, fmt::format("unexpected {} in the MODEL: expected '[' or ']'", itd::describe(t)));
     const Token k = tok_.peek();
     if (k.is_keyword("MDLTSRF")) {
       tok_.next();
@@ -221,17 +222,21 @@ void ItdParser::parse_model(const Token& open) {
     }
   }
   if (static_cast<int>(model.surfaces.size()) != num_surfaces)
-    fail(open.line, where, fmt::format("the MODEL declares {} trimmed surfaces (MDLTSRF) and holds {}", num_surfaces,
-                                       model.surfaces.size()));
+    fail(open.line, where,
+         fmt::format("the MODEL declares {} trimmed surfaces (MDLTSRF) and holds {}", num_surfaces,
+                     model.surfaces.size()));
   if (static_cast<int>(model.segments.size()) != num_segments)
-    fail(open.line, where, fmt::format("the MODEL declares {} trimming segments (MDLTSEG) and holds {}", num_segments,
-                                       model.segments.size()));
+    fail(open.line, where,
+         fmt::format("the MODEL declares {} trimming segments (MDLTSEG) and holds {}", num_segments,
+                     model.segments.size()));
   for (std::size_t g = 0; g < model.segments.size(); ++g) {
     TrimmedModel::Segment& seg = model.segments[g];
     for (int& srf : seg.surfaces) {
       if (srf < 1 || srf > num_surfaces)
-        fail(seg.source_line, where, fmt::format("trimming segment {} borders surface {}, but the MODEL's surfaces are "
-                                                 "1..{}", g + 1, srf, num_surfaces));
+        fail(seg.source_line, where,
+             fmt::format("trimming segment {} borders surface {}, but the MODEL's surfaces are "
+                         "1..{}",
+                         g + 1, srf, num_surfaces));
       --srf;
     }
   }
@@ -241,8 +246,8 @@ void ItdParser::parse_model(const Token& open) {
         const int g = std::abs(ref);
         if (g < 1 || g > num_segments)
           fail(model.surfaces[i].source_line, where,
-               fmt::format("a loop of trimmed surface {} refers to segment {}, but the MODEL's segments are 1..{}", i + 1,
-                           ref, num_segments));
+               fmt::format("a loop of trimmed surface {} refers to segment {}, but the MODEL's segments are 1..{}",
+                           i + 1, ref, num_segments));
       }
   models_.push_back(std::move(model));
 }
@@ -273,8 +278,10 @@ void ItdParser::parse_model_surface(const Token& open, TrimmedModel& model, cons
         if (r.is_end()) fail_eof(here, t);
         const auto v = r.is_word() ? io_detail::parse_integer(r.text) : std::nullopt;
         if (!v || *v == 0 || *v > 10'000'000 || *v < -10'000'000)
-          fail(r.line, here, fmt::format("a loop (MDLLOOP) lists segment numbers (1-based, negative for reversed), "
-                                         "found {}", itd::describe(r)));
+          fail(r.line, here,
+               fmt::format("a loop (MDLLOOP) lists segment numbers (1-based, negative for reversed), "
+                           "found {}",
+                           itd::describe(r)));
         loop.push_back(static_cast<int>(*v));
       }
       if (loop.empty()) fail(t.line, here, "a loop (MDLLOOP) lists no segment");
@@ -321,15 +328,18 @@ void ItdParser::parse_model_segment(const Token& open, TrimmedModel& model, cons
   }
   const int expected = (mask & 1) + ((mask >> 1) & 1) + ((mask >> 2) & 1);
   if (static_cast<int>(curves.size()) != expected)
-    fail(open.line, here, fmt::format("the curve mask {} announces {} curve(s) (1: in the first surface's (u, v), 2: in "
-                                      "the second's, 4: in space) and the segment holds {}",
-                                      mask, expected, curves.size()));
+    fail(open.line, here,
+         fmt::format("the curve mask {} announces {} curve(s) (1: in the first surface's (u, v), 2: in "
+                     "the second's, 4: in space) and the segment holds {}",
+                     mask, expected, curves.size()));
   std::size_t next = 0;
   for (const auto& [bit, surface] : {std::pair{1, first}, std::pair{2, second}}) {
     if (!(mask & bit)) continue;
     if (curves[next].point_dim() != 2)
-      fail(lines[next], here, fmt::format("a trimming curve lies in a surface's parameter space (2 coordinates), this "
-                                          "one has {}", curves[next].point_dim()));
+      fail(lines[next], here,
+           fmt::format("a trimming curve lies in a surface's parameter space (2 coordinates), this "
+                       "one has {}",
+                       curves[next].point_dim()));
     seg.surfaces.push_back(surface);
     seg.curves.push_back(std::move(curves[next++]));
   }
@@ -396,8 +406,9 @@ void ItdParser::read_geometry(const Token& keyword, int param_dim) {
       // A Bezier patch's order is its point count.
       orders[d] = counts[d];
       if (orders[d] > kMaxOrder)
-        fail(keyword.line, where, fmt::format("a Bezier patch with {} points along {} has order {}, above the supported {}",
-                                              counts[d], kDirection[d], counts[d], kMaxOrder));
+        fail(keyword.line, where,
+             fmt::format("a Bezier patch with {} points along {} has order {}, above the supported {}", counts[d],
+                         kDirection[d], counts[d], kMaxOrder));
     } else {
       orders[d] = read_int(where, fmt::format("order along {}", kDirection[d]), 1, kMaxOrder);
     }
@@ -409,15 +420,17 @@ void ItdParser::read_geometry(const Token& keyword, int param_dim) {
     const std::string_view s = pt_token.text;
     if (!pt_token.is_word() || s.size() != 2 || (s[0] != 'E' && s[0] != 'P' && s[0] != 'e' && s[0] != 'p') ||
         s[1] < '1' || s[1] > '9')
-      fail(line_of(pt_token), where,
-           fmt::format("point type must be E1..E9 (Euclidean) or P1..P9 (rational), found {}", itd::describe(pt_token)));
+      fail(
+          line_of(pt_token), where,
+          fmt::format("point type must be E1..E9 (Euclidean) or P1..P9 (rational), found {}", itd::describe(pt_token)));
     pt = PointType{s[1] - '0', s[0] == 'P' || s[0] == 'p', s};
   }
 
   std::int64_t total = 1;
   for (std::size_t d = 0; d < dims; ++d) total *= counts[d];  // <= 1e8^3, fits in 64 bits
   if (total > kMaxControlPoints)
-    fail(keyword.line, where, fmt::format("declares {} control points, above the limit of {}", total, kMaxControlPoints));
+    fail(keyword.line, where,
+         fmt::format("declares {} control points, above the limit of {}", total, kMaxControlPoints));
 
   std::vector<KnotVector> knots;
   for (std::size_t d = 0; d < dims; ++d) {
@@ -437,8 +450,7 @@ void ItdParser::read_geometry(const Token& keyword, int param_dim) {
   const Token close = tok_.next();
   if (close.is_open()) fail(close.line, where, fmt::format("more control points than the {} declared", total));
   if (!close.is_close())
-    fail(line_of(close), where,
-         fmt::format("expected ']' closing the {}, found {}", kw, itd::describe(close)));
+    fail(line_of(close), where, fmt::format("expected ']' closing the {}, found {}", kw, itd::describe(close)));
 
   try {
     TensorSpline spline(std::move(knots), pt.dim, std::move(points), std::move(weights));
@@ -481,8 +493,7 @@ KnotVector ItdParser::read_knots(const std::string& where, int dir, int num_ctrl
 void ItdParser::read_point(const std::string& where, std::int64_t index, std::int64_t total, const PointType& pt,
                            std::vector<double>& points, std::vector<double>& weights) {
   const Token open = tok_.next();
-  if (open.is_close())
-    fail(open.line, where, fmt::format("{} control points declared, found only {}", total, index));
+  if (open.is_close()) fail(open.line, where, fmt::format("{} control points declared, found only {}", total, index));
   if (!open.is_open())
     fail(line_of(open), where,
          fmt::format("expected '[' starting control point {}, found {}", index, itd::describe(open)));
@@ -503,8 +514,8 @@ void ItdParser::read_point(const std::string& where, std::int64_t index, std::in
     }
     const double x = read_number(t, where, "coordinate");
     if (n == want)
-      fail(t.line, where, fmt::format("control point {} has more than the {} numbers point type {} holds", index,
-                                      want, pt.name));
+      fail(t.line, where,
+           fmt::format("control point {} has more than the {} numbers point type {} holds", index, want, pt.name));
     v[static_cast<std::size_t>(n++)] = x;
   }
   if (n != want)

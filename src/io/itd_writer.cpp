@@ -26,8 +26,8 @@ constexpr int kMaxItdPointDim = 9;  // IRIT point types stop at E9/P9
 std::string itd_name(const std::string& name, std::size_t index) {
   std::string out;
   for (char c : name) {
-    const bool breaks_word = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v' ||
-                             c == '[' || c == ']' || c == '"' || static_cast<unsigned char>(c) < 0x20;
+    const bool breaks_word = c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v' || c == '[' ||
+                             c == ']' || c == '"' || static_cast<unsigned char>(c) < 0x20;
     out.push_back(breaks_word ? '_' : c);
   }
   return out.empty() ? fmt::format("PATCH_{}", index) : out;
@@ -39,7 +39,8 @@ void write_patch(std::string& buf, const Patch& patch, std::size_t index) {
   const int dims = s.param_dim();
   auto out = std::back_inserter(buf);
 
-  fmt::format_to(out, "[OBJECT {}\n    [{} BSPLINE", itd_name(patch.name, index), kKeyword[static_cast<std::size_t>(dims)]);
+  fmt::format_to(out, "[OBJECT {}\n    [{} BSPLINE", itd_name(patch.name, index),
+                 kKeyword[static_cast<std::size_t>(dims)]);
   for (int d = 0; d < dims; ++d) fmt::format_to(out, " {}", s.num_ctrl(d));
   for (int d = 0; d < dims; ++d) fmt::format_to(out, " {}", s.knots(d).order());
   fmt::format_to(out, " {}{}\n", s.is_rational() ? 'P' : 'E', s.point_dim());
@@ -52,7 +53,7 @@ void write_patch(std::string& buf, const Patch& patch, std::size_t index) {
   }
 
   const int n = s.total_ctrl();
-  const int first_break = s.num_ctrl(0);                  // blank line between rows
+  const int first_break = s.num_ctrl(0);                   // blank line between rows
   const int second_break = s.num_ctrl(0) * s.num_ctrl(1);  // and another between layers
   for (int i = 0; i < n; ++i) {
     if (i > 0 && i % first_break == 0) buf += '\n';

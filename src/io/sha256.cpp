@@ -59,8 +59,8 @@ std::string sha256_hex(std::string_view bytes) {
 FileDigest sha256_file(const std::filesystem::path& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr)
-    throw IoError(fmt::format("{}: cannot open: {}", path.string(),
-                              std::error_code(errno, std::generic_category()).message()));
+    throw IoError(
+        fmt::format("{}: cannot open: {}", path.string(), std::error_code(errno, std::generic_category()).message()));
   Sha256 h;
   FileDigest d;
   std::vector<std::uint8_t> block(1 << 16);

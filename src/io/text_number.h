@@ -23,8 +23,7 @@ inline std::optional<double> parse_double(std::string_view s) {
   if (end != s.data() + s.size()) return std::nullopt;
   if (ec == std::errc::result_out_of_range) {
     // Overflow (|v| huge) reads as infinity; underflow (tiny) as zero, which is harmless.
-    const bool tiny = s.find_first_of("eE") != std::string_view::npos &&
-                      s[s.find_first_of("eE") + 1] == '-';
+    const bool tiny = s.find_first_of("eE") != std::string_view::npos && s[s.find_first_of("eE") + 1] == '-';
     const bool negative = s.front() == '-';
     if (tiny) return negative ? -0.0 : 0.0;
     return negative ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();

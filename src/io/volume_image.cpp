@@ -20,13 +20,12 @@ namespace trivox {
 void VolumeImage::validate() const {
   if (nx < 1 || ny < 1 || nz < 1)
     throw Error(fmt::format("volume image: size {} x {} x {} is not at least 1 x 1 x 1", nx, ny, nz));
-  if (channels < 1 || channels > 64)
-    throw Error(fmt::format("volume image: {} channels is not in [1, 64]", channels));
-  const auto expected = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) *
-                        static_cast<std::size_t>(nz) * static_cast<std::size_t>(channels);
+  if (channels < 1 || channels > 64) throw Error(fmt::format("volume image: {} channels is not in [1, 64]", channels));
+  const auto expected = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) * static_cast<std::size_t>(nz) *
+                        static_cast<std::size_t>(channels);
   if (values.size() != expected)
-    throw Error(fmt::format("volume image: {} values for {} x {} x {} x {} channels", values.size(), nx,
-                            ny, nz, channels));
+    throw Error(
+        fmt::format("volume image: {} values for {} x {} x {} x {} channels", values.size(), nx, ny, nz, channels));
   for (float v : values)
     if (!std::isfinite(v)) throw Error("volume image: a value is not a finite number");
 }
@@ -62,8 +61,9 @@ VolumeImage read_raw_volume(const std::filesystem::path& path, const RawVolumeLa
   image.channels = layout.channels;
   const std::string file = path.string();
   if (layout.nx < 1 || layout.ny < 1 || layout.nz < 1 || layout.channels < 1 || layout.channels > 64)
-    throw InputError(file, 0, "", fmt::format("the declared size {} x {} x {} x {} channels is not valid",
-                                              layout.nx, layout.ny, layout.nz, layout.channels));
+    throw InputError(file, 0, "",
+                     fmt::format("the declared size {} x {} x {} x {} channels is not valid", layout.nx, layout.ny,
+                                 layout.nz, layout.channels));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(fmt::format("{}: cannot open the raw volume", file));
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -74,8 +74,8 @@ VolumeImage read_raw_volume(const std::filesystem::path& path, const RawVolumeLa
   if (bytes.size() != count * size)
     throw InputError(file, 0, "",
                      fmt::format("the file holds {} bytes but {} x {} x {} samples of {} channel(s) of {} "
-                                 "byte(s) need {}", bytes.size(), layout.nx, layout.ny, layout.nz,
-                                 layout.channels, size, count * size));
+                                 "byte(s) need {}",
+                                 bytes.size(), layout.nx, layout.ny, layout.nz, layout.channels, size, count * size));
   image.values.resize(count);
   const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
   for (std::size_t i = 0; i < count; ++i, p += size) {
@@ -86,8 +86,7 @@ VolumeImage read_raw_volume(const std::filesystem::path& path, const RawVolumeLa
       case RawSampleType::kFloat32: {
         float f;
         std::memcpy(&f, &raw, sizeof f);
-        if (!std::isfinite(f))
-          throw InputError(file, 0, "", fmt::format("sample {} is not a finite number", i));
+        if (!std::isfinite(f)) throw InputError(file, 0, "", fmt::format("sample {} is not a finite number", i));
         image.values[i] = f;
         break;
       }
@@ -141,12 +140,15 @@ VolumeImage read_tiff_volume(const std::filesystem::path& path) {
     TIFFGetFieldDefaulted(tif.get(), TIFFTAG_SAMPLEFORMAT, &format);
     TIFFGetFieldDefaulted(tif.get(), TIFFTAG_PLANARCONFIG, &planar);
     const std::string where = fmt::format("page {}", page);
-    const bool supported = (format == SAMPLEFORMAT_UINT && (bits == 8 || bits == 16)) ||
-                           (format == SAMPLEFORMAT_IEEEFP && bits == 32);
+    const bool supported =
+        (format == SAMPLEFORMAT_UINT && (bits == 8 || bits == 16)) || (format == SAMPLEFORMAT_IEEEFP && bits == 32);
     if (!supported)
-      throw UnsupportedError(file, 0, where, fmt::format("{}-bit samples of format {} are not supported (8- or "
-                                                         "16-bit unsigned, or 32-bit float)", bits, format));
-    if (spp < 1 || spp > 4) throw UnsupportedError(file, 0, where, fmt::format("{} samples per pixel (1 to 4 are supported)", spp));
+      throw UnsupportedError(file, 0, where,
+                             fmt::format("{}-bit samples of format {} are not supported (8- or "
+                                         "16-bit unsigned, or 32-bit float)",
+                                         bits, format));
+    if (spp < 1 || spp > 4)
+      throw UnsupportedError(file, 0, where, fmt::format("{} samples per pixel (1 to 4 are supported)", spp));
     if (planar != PLANARCONFIG_CONTIG && spp > 1)
       throw UnsupportedError(file, 0, where, "separate colour planes are not supported");
     if (w < 1 || h < 1 || w > (1u << 16) || h > (1u << 16))
@@ -159,9 +161,10 @@ VolumeImage read_tiff_volume(const std::filesystem::path& path) {
       first_format = format;
     } else if (static_cast<int>(w) != image.nx || static_cast<int>(h) != image.ny || spp != image.channels ||
                bits != first_bits || format != first_format) {
-      throw InputError(file, 0, where, fmt::format("{} x {} px, {} samples of {} bits differ from page 0's {} x {} px, "
-                                                   "{} samples of {} bits", w, h, spp, bits, image.nx, image.ny,
-                                                   image.channels, first_bits));
+      throw InputError(file, 0, where,
+                       fmt::format("{} x {} px, {} samples of {} bits differ from page 0's {} x {} px, "
+                                   "{} samples of {} bits",
+                                   w, h, spp, bits, image.nx, image.ny, image.channels, first_bits));
     }
     // Read the page through the strip or tile interface into one buffer of rows.
     const std::size_t row_samples = static_cast<std::size_t>(w) * spp;

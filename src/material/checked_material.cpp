@@ -13,12 +13,9 @@ int checked_count(const std::shared_ptr<const MaterialFunction>& inner) {
 }
 }  // namespace
 
-CheckedMaterial::CheckedMaterial(std::shared_ptr<const MaterialFunction> inner,
-                                 FractionPolicy policy, MaterialSite site)
-    : MaterialFunction(checked_count(inner)),
-      inner_(std::move(inner)),
-      policy_(policy),
-      site_(std::move(site)) {
+CheckedMaterial::CheckedMaterial(std::shared_ptr<const MaterialFunction> inner, FractionPolicy policy,
+                                 MaterialSite site)
+    : MaterialFunction(checked_count(inner)), inner_(std::move(inner)), policy_(policy), site_(std::move(site)) {
   policy_.validate();
 }
 
@@ -28,8 +25,7 @@ void CheckedMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Ve
   apply_fraction_policy(policy_, site_, num_materials(), uvw, fractions);
 }
 
-void CheckedMaterial::bounds(const ParamBox& box, std::span<float> lo,
-                             std::span<float> hi) const {
+void CheckedMaterial::bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const {
   inner_->bounds(box, lo, hi);
   const auto m = static_cast<std::size_t>(num_materials());
   double hi_sum = 0.0;

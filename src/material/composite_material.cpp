@@ -50,7 +50,8 @@ BlendMaterial::BlendMaterial(MaterialPtr a, MaterialPtr b, MaterialPtr weight)
 void BlendMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
                                  std::span<float> fractions) const {
   const auto m = static_cast<std::size_t>(num_materials());
-  const std::vector<float> a = evaluate_part(*a_, uvw, xyz), b = evaluate_part(*b_, uvw, xyz), w = evaluate_part(*weight_, uvw, xyz);
+  const std::vector<float> a = evaluate_part(*a_, uvw, xyz), b = evaluate_part(*b_, uvw, xyz),
+                           w = evaluate_part(*weight_, uvw, xyz);
   for (std::size_t s = 0; s < uvw.size(); ++s) {
     const float t = unit_clamp(w[s]);
     for (std::size_t j = 0; j < m; ++j) fractions[s * m + j] = (1.0f - t) * a[s * m + j] + t * b[s * m + j];
@@ -74,7 +75,8 @@ void ThresholdMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const 
                            hi = evaluate_part(*above_, uvw, xyz);
   for (std::size_t i = 0; i < uvw.size(); ++i) {
     const std::vector<float>& pick = s[i] >= level_ ? hi : lo;  // NaN compares false: below
-    std::copy_n(pick.begin() + static_cast<std::ptrdiff_t>(i * m), m, fractions.begin() + static_cast<std::ptrdiff_t>(i * m));
+    std::copy_n(pick.begin() + static_cast<std::ptrdiff_t>(i * m), m,
+                fractions.begin() + static_cast<std::ptrdiff_t>(i * m));
   }
 }
 
@@ -87,14 +89,14 @@ SelectMaterial::SelectMaterial(std::vector<SelectRegion> regions, MaterialPtr ot
     const SelectRegion& region = regions_[r];
     const std::string what = fmt::format("material of region {}", r);
     if (require(region.material, what.c_str()).num_materials() != num_materials())
-      throw Error(fmt::format("region {} has {} materials but the others have {}", r,
-                              region.material->num_materials(), num_materials()));
+      throw Error(fmt::format("region {} has {} materials but the others have {}", r, region.material->num_materials(),
+                              num_materials()));
     const double lo[3] = {region.box.lo.x, region.box.lo.y, region.box.lo.z};
     const double hi[3] = {region.box.hi.x, region.box.hi.y, region.box.hi.z};
     for (int d = 0; d < 3; ++d)
       if (!std::isfinite(lo[d]) || !std::isfinite(hi[d]) || lo[d] > hi[d])
-        throw Error(fmt::format("region {}: the box [{}, {}] along direction {} is empty or not finite", r, lo[d],
-                                hi[d], d));
+        throw Error(
+            fmt::format("region {}: the box [{}, {}] along direction {} is empty or not finite", r, lo[d], hi[d], d));
   }
 }
 
@@ -120,7 +122,8 @@ void SelectMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec
     const std::vector<float> part = evaluate_part(f, uvw, xyz);
     for (std::size_t s = 0; s < uvw.size(); ++s)
       if (which[s] == r)
-        std::copy_n(part.begin() + static_cast<std::ptrdiff_t>(s * m), m, fractions.begin() + static_cast<std::ptrdiff_t>(s * m));
+        std::copy_n(part.begin() + static_cast<std::ptrdiff_t>(s * m), m,
+                    fractions.begin() + static_cast<std::ptrdiff_t>(s * m));
   }
 }
 

@@ -13,8 +13,7 @@ ConstantMaterial::ConstantMaterial(std::vector<float> fractions)
     : MaterialFunction(static_cast<int>(fractions.size())), fractions_(std::move(fractions)) {
   for (std::size_t j = 0; j < fractions_.size(); ++j)
     if (!std::isfinite(fractions_[j]))
-      throw Error(fmt::format("constant material: fraction {} is {}, not a finite number", j,
-                              fractions_[j]));
+      throw Error(fmt::format("constant material: fraction {} is {}, not a finite number", j, fractions_[j]));
 }
 
 void ConstantMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>,

@@ -33,21 +33,20 @@ void check_constant_names(const ExpressionParams& params) {
   for (const auto& [name, value] : params.constants) {
     if (!is_identifier(name))
       throw ExpressionError(-1, fmt::format("constant name '{}' is not an identifier (letters, "
-                                            "digits and '_', not starting with a digit)", name));
+                                            "digits and '_', not starting with a digit)",
+                                            name));
     for (std::string_view reserved : kVariables)
       if (name == reserved)
         throw ExpressionError(-1, fmt::format("constant name '{}' is one of the variables "
-                                              "u v w x y z", name));
-    if (name == "pi")
-      throw ExpressionError(-1, "constant name 'pi' is predefined");
+                                              "u v w x y z",
+                                              name));
+    if (name == "pi") throw ExpressionError(-1, "constant name 'pi' is predefined");
     if (!std::isfinite(value))
       throw ExpressionError(-1, fmt::format("constant '{}' = {} is not a finite number", name, value));
   }
 }
 
-int expression_count(const ExpressionParams& params) {
-  return static_cast<int>(params.expressions.size());
-}
+int expression_count(const ExpressionParams& params) { return static_cast<int>(params.expressions.size()); }
 
 }  // namespace
 
@@ -76,13 +75,11 @@ std::unique_ptr<ExpressionMaterial::Evaluator> ExpressionMaterial::make_evaluato
     try {
       parser->DefineConst("pi", std::numbers::pi);
       for (const auto& [name, value] : params_.constants) parser->DefineConst(name, value);
-      for (std::size_t k = 0; k < std::size(kVariables); ++k)
-        parser->DefineVar(std::string(kVariables[k]), vars[k]);
+      for (std::size_t k = 0; k < std::size(kVariables); ++k) parser->DefineVar(std::string(kVariables[k]), vars[k]);
       parser->SetExpr(text);
       parser->Eval();  // compiles the bytecode; syntax and unknown names fail here
     } catch (const mu::Parser::exception_type& e) {
-      throw ExpressionError(static_cast<int>(j),
-                            fmt::format("expression \"{}\": {}", text, e.GetMsg()));
+      throw ExpressionError(static_cast<int>(j), fmt::format("expression \"{}\": {}", text, e.GetMsg()));
     }
     ev->parsers.push_back(std::move(parser));
   }

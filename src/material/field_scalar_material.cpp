@@ -18,8 +18,8 @@ FieldScalarMaterial::FieldScalarMaterial(TensorSpline field, FieldScalarChoice c
   if (field_.point_dim() < 1 || field_.point_dim() > kMaxMaterials)
     throw Error(fmt::format("a scalar field source has 1 to {} components, got {}", kMaxMaterials, field_.point_dim()));
   if (!choice_.magnitude && (choice_.component < 0 || choice_.component >= field_.point_dim()))
-    throw Error(fmt::format("component {} is not one of the field's {} components", choice_.component,
-                            field_.point_dim()));
+    throw Error(
+        fmt::format("component {} is not one of the field's {} components", choice_.component, field_.point_dim()));
   const ParamBox domain{{field_.lo(0), field_.lo(1), field_.lo(2)}, {field_.hi(0), field_.hi(1), field_.hi(2)}};
   map_ = AffineParamMap::between(cell_domain, domain);
 }
@@ -31,7 +31,8 @@ void FieldScalarMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
   for (std::size_t s = 0; s < uvw.size(); ++s) {
     const Vec3 p = map_(uvw[s]);
     // Parameters outside the domain are clamped to it, as for every material function.
-    const std::array<double, 3> t{std::clamp(p.x, field_.lo(0), field_.hi(0)), std::clamp(p.y, field_.lo(1), field_.hi(1)),
+    const std::array<double, 3> t{std::clamp(p.x, field_.lo(0), field_.hi(0)),
+                                  std::clamp(p.y, field_.lo(1), field_.hi(1)),
                                   std::clamp(p.z, field_.lo(2), field_.hi(2))};
     field_.evaluate(t, std::span<double>(v.data(), k));
     if (choice_.magnitude) {

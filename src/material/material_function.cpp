@@ -20,8 +20,7 @@ AffineParamMap AffineParamMap::between(const ParamBox& from, const ParamBox& to)
 
 MaterialFunction::MaterialFunction(int num_materials) : num_materials_(num_materials) {
   if (num_materials < 1 || num_materials > kMaxMaterials)
-    throw Error(fmt::format("a material function needs 1 to {} materials, got {}", kMaxMaterials,
-                            num_materials));
+    throw Error(fmt::format("a material function needs 1 to {} materials, got {}", kMaxMaterials, num_materials));
 }
 
 void MaterialFunction::bounds(const ParamBox&, std::span<float> lo, std::span<float> hi) const {
@@ -40,15 +39,13 @@ namespace {
 
 std::string material_label(const MaterialSite& site, int j) {
   const auto index = static_cast<std::size_t>(j);
-  return index < site.material_names.size() ? fmt::format("'{}'", site.material_names[index])
-                                            : fmt::format("{}", j);
+  return index < site.material_names.size() ? fmt::format("'{}'", site.material_names[index]) : fmt::format("{}", j);
 }
 
 // Kept out of line so that the row loop stays small; it only runs on the way to an error.
 [[noreturn]] void fail(const MaterialSite& site, Vec3 p, const std::string& rule) {
   throw InputError(site.source, 0, site.pointer,
-                   fmt::format("cell '{}': {} at (u,v,w) = ({}, {}, {})", site.cell, rule, p.x,
-                               p.y, p.z));
+                   fmt::format("cell '{}': {} at (u,v,w) = ({}, {}, {})", site.cell, rule, p.x, p.y, p.z));
 }
 
 }  // namespace
@@ -75,8 +72,8 @@ bool row_untouched(const float* f, std::size_t samples, std::size_t m) noexcept 
 
 }  // namespace
 
-void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m,
-                           std::span<const Vec3> uvw, std::span<float> fractions) {
+void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m, std::span<const Vec3> uvw,
+                           std::span<float> fractions) {
   const auto count = static_cast<std::size_t>(m);
   const bool untouched = count == 1   ? row_untouched<1>(fractions.data(), uvw.size(), 1)
                          : count == 2 ? row_untouched<2>(fractions.data(), uvw.size(), 2)

@@ -12,20 +12,22 @@ namespace trivox {
 
 void PorousTilesParams::validate(int num_materials) const {
   for (std::size_t d = 0; d < 3; ++d)
-    if (tiles[d] < 1)
-      throw Error(fmt::format("porous tiles: tiles[{}] = {} is not >= 1", d, tiles[d]));
+    if (tiles[d] < 1) throw Error(fmt::format("porous tiles: tiles[{}] = {} is not >= 1", d, tiles[d]));
   if (!std::isfinite(radius) || radius < 0.0 || radius > 0.5)
-    throw Error(fmt::format("porous tiles: radius {} is not in [0, 0.5] (a fraction of the "
-                            "tile side; 0.5 makes the cylinders touch the tile's faces)",
-                            radius));
+    throw Error(
+        fmt::format("porous tiles: radius {} is not in [0, 0.5] (a fraction of the "
+                    "tile side; 0.5 makes the cylinders touch the tile's faces)",
+                    radius));
   for (std::size_t t = 0; t < 2; ++t)
     if (materials[t] != kVoidMaterial && (materials[t] < 0 || materials[t] >= num_materials))
-      throw Error(fmt::format("porous tiles: materials[{}] = {} is not a material index in "
-                              "[0, {}) nor void", t, materials[t], num_materials));
+      throw Error(
+          fmt::format("porous tiles: materials[{}] = {} is not a material index in "
+                      "[0, {}) nor void",
+                      t, materials[t], num_materials));
   for (std::size_t t = 0; t < 2; ++t)
     if (cylinder_axes[t] < 0 || cylinder_axes[t] > 2)
-      throw Error(fmt::format("porous tiles: cylinder_axes[{}] = {} is not 0 (u), 1 (v) or 2 (w)",
-                              t, cylinder_axes[t]));
+      throw Error(
+          fmt::format("porous tiles: cylinder_axes[{}] = {} is not 0 (u), 1 (v) or 2 (w)", t, cylinder_axes[t]));
   if (cylinder_axes[0] == cylinder_axes[1])
     throw Error("porous tiles: the two cylinders must run along different axes");
 }
@@ -39,8 +41,7 @@ std::array<int, 2> across(int axis) noexcept {
 
 }  // namespace
 
-PorousTilesMaterial::PorousTilesMaterial(PorousTilesParams params, int num_materials,
-                                         const ParamBox& cell_domain)
+PorousTilesMaterial::PorousTilesMaterial(PorousTilesParams params, int num_materials, const ParamBox& cell_domain)
     : MaterialFunction(num_materials), params_(params) {
   params_.validate(num_materials);
   const ParamBox tile_units{{0.0, 0.0, 0.0},
@@ -76,8 +77,7 @@ void PorousTilesMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
   }
 }
 
-void PorousTilesMaterial::bounds(const ParamBox& box, std::span<float> lo,
-                                 std::span<float> hi) const {
+void PorousTilesMaterial::bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const {
   const auto m = static_cast<std::size_t>(num_materials());
   std::fill(lo.begin(), lo.begin() + static_cast<std::ptrdiff_t>(m), 0.0f);
   std::fill(hi.begin(), hi.begin() + static_cast<std::ptrdiff_t>(m), 0.0f);

@@ -21,9 +21,10 @@ int stop_material_count(const std::vector<GradientStop>& stops) {
 
 void validate(const TensorSpline& field, const std::vector<GradientStop>& stops) {
   if (field.param_dim() != 3 || field.point_dim() != 1)
-    throw Error(fmt::format("a scalar gradient needs a scalar trivariate field (3 parametric "
-                            "directions, 1 component), got {} direction(s) and {} component(s)",
-                            field.param_dim(), field.point_dim()));
+    throw Error(
+        fmt::format("a scalar gradient needs a scalar trivariate field (3 parametric "
+                    "directions, 1 component), got {} direction(s) and {} component(s)",
+                    field.param_dim(), field.point_dim()));
   validate_gradient_stops(stops);
 }
 
@@ -33,11 +34,12 @@ void validate_gradient_stops(const std::vector<GradientStop>& stops) {
   if (stops.empty()) throw Error("a gradient needs at least one stop");
   for (std::size_t i = 0; i < stops.size(); ++i) {
     const GradientStop& stop = stops[i];
-    if (!std::isfinite(stop.value))
-      throw Error(fmt::format("stop {}: value {} is not a finite number", i, stop.value));
+    if (!std::isfinite(stop.value)) throw Error(fmt::format("stop {}: value {} is not a finite number", i, stop.value));
     if (i > 0 && stop.value < stops[i - 1].value)
-      throw Error(fmt::format("stop {}: value {} is below the previous stop's {}; stop values "
-                              "must not decrease", i, stop.value, stops[i - 1].value));
+      throw Error(
+          fmt::format("stop {}: value {} is below the previous stop's {}; stop values "
+                      "must not decrease",
+                      i, stop.value, stops[i - 1].value));
     if (stop.fractions.size() != stops.front().fractions.size())
       throw Error(fmt::format("stop {} has {} fractions, stop 0 has {}", i, stop.fractions.size(),
                               stops.front().fractions.size()));
@@ -51,26 +53,22 @@ ScalarGradientMaterial::ScalarGradientMaterial(TensorSpline field, std::vector<G
                                                const ParamBox& cell_domain)
     : MaterialFunction(stop_material_count(stops)), field_(std::move(field)), stops_(std::move(stops)) {
   validate(field_, stops_);
-  const ParamBox field_domain{{field_.lo(0), field_.lo(1), field_.lo(2)},
-                              {field_.hi(0), field_.hi(1), field_.hi(2)}};
+  const ParamBox field_domain{{field_.lo(0), field_.lo(1), field_.lo(2)}, {field_.hi(0), field_.hi(1), field_.hi(2)}};
   map_ = AffineParamMap::between(cell_domain, field_domain);
 }
 
-void ScalarGradientMaterial::ramp(double s, std::span<float> out) const noexcept {
-  gradient_ramp(stops_, s, out);
-}
+void ScalarGradientMaterial::ramp(double s, std::span<float> out) const noexcept { gradient_ramp(stops_, s, out); }
 
 void gradient_ramp(std::span<const GradientStop> stops, double s, std::span<float> out) noexcept {
   const std::size_t m = stops.front().fractions.size();
   if (std::isnan(s)) {  // passed on for the fraction policy to report
-    std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(m),
-              std::numeric_limits<float>::quiet_NaN());
+    std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(m), std::numeric_limits<float>::quiet_NaN());
     return;
   }
   // First stop whose value is above s: s lies in [stops[i-1], stops[i]). upper_bound makes the
   // later of two equal stops apply at their value (a step).
-  const auto it = std::upper_bound(stops.begin(), stops.end(), s,
-                                   [](double x, const GradientStop& g) { return x < g.value; });
+  const auto it =
+      std::upper_bound(stops.begin(), stops.end(), s, [](double x, const GradientStop& g) { return x < g.value; });
   if (it == stops.begin() || it == stops.end()) {
     const GradientStop& end = it == stops.begin() ? stops.front() : stops.back();
     std::copy(end.fractions.begin(), end.fractions.end(), out.begin());
@@ -79,8 +77,7 @@ void gradient_ramp(std::span<const GradientStop> stops, double s, std::span<floa
   const GradientStop& a = *(it - 1);
   const GradientStop& b = *it;
   const double t = (s - a.value) / (b.value - a.value);  // b.value > a.value here
-  for (std::size_t j = 0; j < m; ++j)
-    out[j] = static_cast<float>((1.0 - t) * a.fractions[j] + t * b.fractions[j]);
+  for (std::size_t j = 0; j < m; ++j) out[j] = static_cast<float>((1.0 - t) * a.fractions[j] + t * b.fractions[j]);
 }
 
 void ScalarGradientMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>,
@@ -95,11 +92,9 @@ void ScalarGradientMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<c
   }
 }
 
-void ScalarGradientMaterial::bounds(const ParamBox& box, std::span<float> lo,
-                                    std::span<float> hi) const {
+void ScalarGradientMaterial::bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const {
   double slo = 0.0, shi = 0.0;
-  detail::coefficient_bounds(field_, map_(box), std::span<double>(&slo, 1),
-                             std::span<double>(&shi, 1));
+  detail::coefficient_bounds(field_, map_(box), std::span<double>(&slo, 1), std::span<double>(&shi, 1));
   // A piecewise-linear ramp takes its extremes over [slo, shi] at the ends or at stops inside.
   const auto m = static_cast<std::size_t>(num_materials());
   std::array<float, kMaxMaterials> at{};

@@ -6,13 +6,10 @@
 
 namespace trivox::detail {
 
-void coefficient_bounds(const TensorSpline& spline, const ParamBox& box, std::span<double> lo,
-                        std::span<double> hi) {
+void coefficient_bounds(const TensorSpline& spline, const ParamBox& box, std::span<double> lo, std::span<double> hi) {
   const auto dim = static_cast<std::size_t>(spline.point_dim());
-  std::fill(lo.begin(), lo.begin() + static_cast<std::ptrdiff_t>(dim),
-            std::numeric_limits<double>::infinity());
-  std::fill(hi.begin(), hi.begin() + static_cast<std::ptrdiff_t>(dim),
-            -std::numeric_limits<double>::infinity());
+  std::fill(lo.begin(), lo.begin() + static_cast<std::ptrdiff_t>(dim), std::numeric_limits<double>::infinity());
+  std::fill(hi.begin(), hi.begin() + static_cast<std::ptrdiff_t>(dim), -std::numeric_limits<double>::infinity());
   // Basis functions non-zero on the span holding t are span-degree .. span; over an interval
   // of parameters that is the union from the first span to the last.
   std::array<int, 3> first{0, 0, 0}, last{0, 0, 0};

@@ -13,7 +13,6 @@ namespace trivox::detail {
 
 // lo and hi get point_dim values each. `box` is in the spline's parameters; it is clamped to
 // the domain first.
-void coefficient_bounds(const TensorSpline& spline, const ParamBox& box, std::span<double> lo,
-                        std::span<double> hi);
+void coefficient_bounds(const TensorSpline& spline, const ParamBox& box, std::span<double> lo, std::span<double> hi);
 
 }  // namespace trivox::detail

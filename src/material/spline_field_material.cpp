@@ -13,28 +13,27 @@ namespace trivox {
 
 namespace {
 
-ParamBox spline_domain(const TensorSpline& s) {
-  return {{s.lo(0), s.lo(1), s.lo(2)}, {s.hi(0), s.hi(1), s.hi(2)}};
-}
+ParamBox spline_domain(const TensorSpline& s) { return {{s.lo(0), s.lo(1), s.lo(2)}, {s.hi(0), s.hi(1), s.hi(2)}}; }
 
-void validate_field(const TensorSpline& field, const std::vector<int>& component_material,
-                    int num_materials) {
+void validate_field(const TensorSpline& field, const std::vector<int>& component_material, int num_materials) {
   if (field.param_dim() != 3)
-    throw Error(fmt::format("a material field must be a trivariate (3 parametric directions), "
-                            "got {} direction(s)", field.param_dim()));
+    throw Error(
+        fmt::format("a material field must be a trivariate (3 parametric directions), "
+                    "got {} direction(s)",
+                    field.param_dim()));
   if (field.point_dim() > kMaxMaterials)
-    throw Error(fmt::format("a material field has at most {} components, got {}", kMaxMaterials,
-                            field.point_dim()));
+    throw Error(fmt::format("a material field has at most {} components, got {}", kMaxMaterials, field.point_dim()));
   if (static_cast<int>(component_material.size()) != field.point_dim())
-    throw Error(fmt::format("the material field has {} component(s) but {} material(s) are "
-                            "assigned to them", field.point_dim(), component_material.size()));
+    throw Error(
+        fmt::format("the material field has {} component(s) but {} material(s) are "
+                    "assigned to them",
+                    field.point_dim(), component_material.size()));
   std::vector<bool> used(static_cast<std::size_t>(num_materials), false);
   for (std::size_t c = 0; c < component_material.size(); ++c) {
     const int j = component_material[c];
     if (j == kVoidMaterial) continue;
     if (j < 0 || j >= num_materials)
-      throw Error(fmt::format("component {} names material index {}, outside [0, {})", c, j,
-                              num_materials));
+      throw Error(fmt::format("component {} names material index {}, outside [0, {})", c, j, num_materials));
     if (used[static_cast<std::size_t>(j)])
       throw Error(fmt::format("component {} names material index {} a second time", c, j));
     used[static_cast<std::size_t>(j)] = true;
@@ -43,11 +42,9 @@ void validate_field(const TensorSpline& field, const std::vector<int>& component
 
 }  // namespace
 
-SplineFieldMaterial::SplineFieldMaterial(TensorSpline field, std::vector<int> component_material,
-                                         int num_materials, const ParamBox& cell_domain)
-    : MaterialFunction(num_materials),
-      field_(std::move(field)),
-      component_material_(std::move(component_material)) {
+SplineFieldMaterial::SplineFieldMaterial(TensorSpline field, std::vector<int> component_material, int num_materials,
+                                         const ParamBox& cell_domain)
+    : MaterialFunction(num_materials), field_(std::move(field)), component_material_(std::move(component_material)) {
   validate_field(field_, component_material_, num_materials);
   map_ = AffineParamMap::between(cell_domain, spline_domain(field_));
 }
@@ -70,8 +67,7 @@ void SplineFieldMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
   }
 }
 
-void SplineFieldMaterial::bounds(const ParamBox& box, std::span<float> lo,
-                                 std::span<float> hi) const {
+void SplineFieldMaterial::bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const {
   std::array<double, kMaxMaterials> clo{}, chi{};
   detail::coefficient_bounds(field_, map_(box), clo, chi);
   const auto m = static_cast<std::size_t>(num_materials());

@@ -13,13 +13,10 @@ namespace trivox {
 namespace {
 
 void require_finite(const char* field, double value) {
-  if (!std::isfinite(value))
-    throw Error(fmt::format("twisting curves: {} = {} is not a finite number", field, value));
+  if (!std::isfinite(value)) throw Error(fmt::format("twisting curves: {} = {} is not a finite number", field, value));
 }
 
-bool valid_material(int j, int num_materials) {
-  return j == kVoidMaterial || (j >= 0 && j < num_materials);
-}
+bool valid_material(int j, int num_materials) { return j == kVoidMaterial || (j >= 0 && j < num_materials); }
 
 }  // namespace
 
@@ -29,20 +26,23 @@ void TwistingCurvesParams::validate(int num_materials) const {
     if (!std::isfinite(points[i].u) || !std::isfinite(points[i].v))
       throw Error(fmt::format("twisting curves: point {} has a coordinate that is not finite", i));
     if (!valid_material(points[i].material, num_materials))
-      throw Error(fmt::format("twisting curves: point {} has material index {}, not in [0, {}) "
-                              "nor void", i, points[i].material, num_materials));
+      throw Error(
+          fmt::format("twisting curves: point {} has material index {}, not in [0, {}) "
+                      "nor void",
+                      i, points[i].material, num_materials));
   }
   require_finite("radius", radius);
-  if (!(radius > 0.0))
-    throw Error(fmt::format("twisting curves: radius {} is not > 0", radius));
+  if (!(radius > 0.0)) throw Error(fmt::format("twisting curves: radius {} is not > 0", radius));
   require_finite("centre_u", centre_u);
   require_finite("centre_v", centre_v);
   require_finite("turns_per_w", turns_per_w);
   require_finite("shift_u_per_w", shift_u_per_w);
   require_finite("shift_v_per_w", shift_v_per_w);
   if (!valid_material(background, num_materials))
-    throw Error(fmt::format("twisting curves: background material index {} is not in [0, {}) "
-                            "nor void", background, num_materials));
+    throw Error(
+        fmt::format("twisting curves: background material index {} is not in [0, {}) "
+                    "nor void",
+                    background, num_materials));
 }
 
 TwistingCurvesMaterial::TwistingCurvesMaterial(TwistingCurvesParams params, int num_materials,
@@ -63,8 +63,7 @@ struct Motion {
         s(std::sin(2.0 * std::numbers::pi * params.turns_per_w * w)),
         shift_u(params.shift_u_per_w * w),
         shift_v(params.shift_v_per_w * w) {}
-  std::array<double, 2> apply(const TwistingCurvesParams& params,
-                              const TwistingCurvesParams::Point& p) const noexcept {
+  std::array<double, 2> apply(const TwistingCurvesParams& params, const TwistingCurvesParams::Point& p) const noexcept {
     const double du = p.u - params.centre_u, dv = p.v - params.centre_v;
     return {params.centre_u + c * du - s * dv + shift_u, params.centre_v + s * du + c * dv + shift_v};
   }
@@ -102,8 +101,7 @@ void TwistingCurvesMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<c
   }
 }
 
-void TwistingCurvesMaterial::bounds(const ParamBox&, std::span<float> lo,
-                                    std::span<float> hi) const {
+void TwistingCurvesMaterial::bounds(const ParamBox&, std::span<float> lo, std::span<float> hi) const {
   const auto m = static_cast<std::size_t>(num_materials());
   std::fill(lo.begin(), lo.begin() + static_cast<std::ptrdiff_t>(m), 0.0f);
   std::fill(hi.begin(), hi.begin() + static_cast<std::ptrdiff_t>(m), 0.0f);

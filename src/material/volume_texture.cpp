@@ -18,10 +18,8 @@ void TextureSampling::validate() const {
 
 int wrap_index(int i, int n, TextureWrap wrap) noexcept {
   switch (wrap) {
-    case TextureWrap::kClamp:
-      return std::clamp(i, 0, n - 1);
-    case TextureWrap::kRepeat:
-      return ((i % n) + n) % n;
+    case TextureWrap::kClamp: return std::clamp(i, 0, n - 1);
+    case TextureWrap::kRepeat: return ((i % n) + n) % n;
     case TextureWrap::kMirror: {
       const int j = ((i % (2 * n)) + 2 * n) % (2 * n);
       return j < n ? j : 2 * n - 1 - j;
@@ -51,7 +49,8 @@ void VolumeTexture::sample(Vec3 p, std::span<float> out) const noexcept {
   const auto channels = static_cast<std::size_t>(im.channels);
   if (sampling_.filter == TextureFilter::kNearest) {
     int i[3];
-    for (int d = 0; d < 3; ++d) i[d] = wrap_index(floor_index(t[d] * n[d]), n[d], sampling_.wrap[static_cast<std::size_t>(d)]);
+    for (int d = 0; d < 3; ++d)
+      i[d] = wrap_index(floor_index(t[d] * n[d]), n[d], sampling_.wrap[static_cast<std::size_t>(d)]);
     for (std::size_t c = 0; c < channels; ++c) out[c] = im.at(i[0], i[1], i[2], static_cast<int>(c));
     return;
   }
@@ -80,8 +79,8 @@ void VolumeTexture::sample(Vec3 p, std::span<float> out) const noexcept {
   }
 }
 
-TextureMaterial::TextureMaterial(VolumeTexture texture, std::vector<int> channel_materials,
-                                 int num_materials, const ParamBox& cell_domain)
+TextureMaterial::TextureMaterial(VolumeTexture texture, std::vector<int> channel_materials, int num_materials,
+                                 const ParamBox& cell_domain)
     : MaterialFunction(num_materials),
       texture_(std::move(texture)),
       channel_materials_(std::move(channel_materials)),
@@ -94,14 +93,15 @@ TextureMaterial::TextureMaterial(VolumeTexture texture, std::vector<int> channel
     const int j = channel_materials_[c];
     if (j == kVoidMaterial) continue;
     if (j < 0 || j >= num_materials)
-      throw Error(fmt::format("texture channel {} names material {}, not one of the {} materials", c, j, num_materials));
+      throw Error(
+          fmt::format("texture channel {} names material {}, not one of the {} materials", c, j, num_materials));
     for (std::size_t k = 0; k < c; ++k)
-      if (channel_materials_[k] == j) throw Error(fmt::format("texture channels {} and {} name the same material", k, c));
+      if (channel_materials_[k] == j)
+        throw Error(fmt::format("texture channels {} and {} name the same material", k, c));
   }
 }
 
-void TextureMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>,
-                                   std::span<float> fractions) const {
+void TextureMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>, std::span<float> fractions) const {
   const auto m = static_cast<std::size_t>(num_materials());
   float sample[64];
   for (std::size_t s = 0; s < uvw.size(); ++s) {

@@ -18,9 +18,7 @@ namespace trivox {
 
 namespace {
 
-std::string errno_text(int error_number) {
-  return std::error_code(error_number, std::generic_category()).message();
-}
+std::string errno_text(int error_number) { return std::error_code(error_number, std::generic_category()).message(); }
 
 constexpr std::string_view kTempMarker = ".tmp-";
 
@@ -31,7 +29,8 @@ AtomicFile::AtomicFile(const std::filesystem::path& target) : target_(target) {
   static std::atomic<unsigned> counter{0};
   const std::string base = target.filename().string();
   for (int attempt = 0; attempt < 100; ++attempt) {
-    path_ = target.parent_path() / fmt::format("{}{}{}-{}", base, kTempMarker, static_cast<long>(::getpid()), counter++);
+    path_ =
+        target.parent_path() / fmt::format("{}{}{}-{}", base, kTempMarker, static_cast<long>(::getpid()), counter++);
     const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
       if (errno == EEXIST) continue;
@@ -94,8 +93,10 @@ int remove_stale_temporaries(const std::filesystem::path& dir) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return 0;
   std::vector<std::filesystem::path> stale;
-  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::end(it); it.increment(ec))
-    if (it->is_regular_file(ec) && is_atomic_temporary_name(it->path().filename().string())) stale.push_back(it->path());
+  for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::end(it);
+       it.increment(ec))
+    if (it->is_regular_file(ec) && is_atomic_temporary_name(it->path().filename().string()))
+      stale.push_back(it->path());
   if (ec) throw IoError(fmt::format("{}: cannot list: {}", dir.string(), ec.message()));
   for (const auto& p : stale) {
     std::filesystem::remove(p, ec);

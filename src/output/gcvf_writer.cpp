@@ -40,7 +40,9 @@ std::string xml_escaped(std::string_view text) {
   return out;
 }
 
-std::string rgba_text(const std::array<std::uint8_t, 4>& c) { return fmt::format("{} {} {} {}", c[0], c[1], c[2], c[3]); }
+std::string rgba_text(const std::array<std::uint8_t, 4>& c) {
+  return fmt::format("{} {} {} {}", c[0], c[1], c[2], c[3]);
+}
 
 // GCVF gives resolutions in whole dots per inch: the pitch must be 25.4 mm over a whole
 // number (to a part in a million).
@@ -48,9 +50,10 @@ int whole_dpi(double pitch_mm, const char* axis) {
   const double dpi = 25.4 / pitch_mm;
   const double rounded = std::round(dpi);
   if (!(rounded >= 1) || std::abs(dpi - rounded) > 1e-6 * rounded)
-    throw Error(fmt::format("gcvf: the {} pitch {} mm is not a whole number of dots per inch ({} dpi); GCVF records "
-                            "whole dpi",
-                            axis, pitch_mm, dpi));
+    throw Error(
+        fmt::format("gcvf: the {} pitch {} mm is not a whole number of dots per inch ({} dpi); GCVF records "
+                    "whole dpi",
+                    axis, pitch_mm, dpi));
   return static_cast<int>(rounded);
 }
 
@@ -170,6 +173,8 @@ class GcvfWriter final : public LayerWriter {
 
 }  // namespace
 
-std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context) { return std::make_unique<GcvfWriter>(context); }
+std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context) {
+  return std::make_unique<GcvfWriter>(context);
+}
 
 }  // namespace trivox::detail

@@ -17,7 +17,8 @@ namespace {
 
 class LayerPreviewWriter final : public LayerWriter {
  public:
-  LayerPreviewWriter(OutputContext c, std::vector<std::pair<int, int>> layers) : c_(std::move(c)), layers_(std::move(layers)) {
+  LayerPreviewWriter(OutputContext c, std::vector<std::pair<int, int>> layers)
+      : c_(std::move(c)), layers_(std::move(layers)) {
     palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
     for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2]});
     std::sort(layers_.begin(), layers_.end());
@@ -50,7 +51,7 @@ class LayerPreviewWriter final : public LayerWriter {
 
  private:
   OutputContext c_;
-  std::vector<std::pair<int, int>> layers_;  // (job index, model layer number), by index
+  std::vector<std::pair<int, int>> layers_;           // (job index, model layer number), by index
   std::vector<std::array<std::uint8_t, 3>> palette_;  // index = label
 };
 

@@ -13,7 +13,8 @@ namespace {
 
 // Why a stdio call failed, from errno (which a short write need not set).
 std::string errno_text(int error_number) {
-  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message() : std::string("short write");
+  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message()
+                           : std::string("short write");
 }
 
 }  // namespace
@@ -43,7 +44,8 @@ void LayerSpool::put(int index, std::string_view bytes) {
 
 bool LayerSpool::has(int index) const {
   std::lock_guard lock(mutex_);
-  return index >= 0 && static_cast<std::size_t>(index) < slots_.size() && slots_[static_cast<std::size_t>(index)].stored;
+  return index >= 0 && static_cast<std::size_t>(index) < slots_.size() &&
+         slots_[static_cast<std::size_t>(index)].stored;
 }
 
 std::uint64_t LayerSpool::size(int index) const {

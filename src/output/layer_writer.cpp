@@ -52,11 +52,13 @@ void voxelprint_rgba_row(const LabelImage& labels, int y, const std::vector<std:
   }
 }
 
-std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels, const std::vector<std::array<std::uint8_t, 4>>& palette) {
+std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels,
+                                          const std::vector<std::array<std::uint8_t, 4>>& palette) {
   std::vector<std::uint8_t> rgba(labels.values().size() * 4);
   const std::size_t row_bytes = static_cast<std::size_t>(labels.width_px()) * 4;
   for (int y = 0; y < labels.height_px(); ++y)
-    voxelprint_rgba_row(labels, y, palette, std::span(rgba).subspan(static_cast<std::size_t>(y) * row_bytes, row_bytes));
+    voxelprint_rgba_row(labels, y, palette,
+                        std::span(rgba).subspan(static_cast<std::size_t>(y) * row_bytes, row_bytes));
   return rgba;
 }
 
@@ -93,8 +95,8 @@ class MaterialBitmapWriter final : public LayerWriter {
       const auto label = LabelImage::label_of_material(static_cast<int>(j));
       std::transform(labels.values().begin(), labels.values().end(), bits.begin(),
                      [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
-      std::string file = fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers),
-                                     c_.material_names[j]);
+      std::string file =
+          fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[j]);
       write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, c_.png);
       files.push_back(std::move(file));
     }
@@ -112,7 +114,8 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
   if (format == "bitmaps") {
     std::error_code ec;
     std::filesystem::create_directories(context.dir / "bitmaps", ec);
-    if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
+    if (ec)
+      throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
     return std::make_unique<MaterialBitmapWriter>(context);
   }
   if (format == "preview") return detail::make_preview_writer(context);
@@ -123,6 +126,8 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
-std::vector<std::string> layer_writer_names() { return {"voxelprint", "bitmaps", "legacy", "tiff", "vdb", "gcvf", "preview"}; }
+std::vector<std::string> layer_writer_names() {
+  return {"voxelprint", "bitmaps", "legacy", "tiff", "vdb", "gcvf", "preview"};
+}
 
 }  // namespace trivox

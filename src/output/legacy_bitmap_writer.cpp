@@ -45,14 +45,14 @@ std::string encode_bmp1(int width_px, int height_px, const std::uint8_t* bits, d
   put_u32(out, 40);
   put_u32(out, static_cast<std::uint32_t>(width_px));
   put_u32(out, static_cast<std::uint32_t>(height_px));
-  put_u16(out, 1);   // planes
-  put_u16(out, 1);   // bits per pixel
-  put_u32(out, 0);   // BI_RGB, uncompressed
+  put_u16(out, 1);  // planes
+  put_u16(out, 1);  // bits per pixel
+  put_u32(out, 0);  // BI_RGB, uncompressed
   put_u32(out, image_bytes);
   put_u32(out, pixels_per_metre(pitch_x_mm));
   put_u32(out, pixels_per_metre(pitch_y_mm));
-  put_u32(out, 2);   // colours used
-  put_u32(out, 2);   // colours important
+  put_u32(out, 2);  // colours used
+  put_u32(out, 2);  // colours important
   // Palette (B, G, R, 0): index 0 black = no material, index 1 white = material.
   put_u32(out, 0x00000000u);
   put_u32(out, 0x00ffffffu);
@@ -61,7 +61,9 @@ std::string encode_bmp1(int width_px, int height_px, const std::uint8_t* bits, d
     std::fill(row.begin(), row.end(), '\0');
     const std::uint8_t* in = bits + static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px);
     for (int x = 0; x < width_px; ++x)
-      if (in[x] != 0) row[static_cast<std::size_t>(x / 8)] = static_cast<char>(row[static_cast<std::size_t>(x / 8)] | (0x80 >> (x % 8)));
+      if (in[x] != 0)
+        row[static_cast<std::size_t>(x / 8)] =
+            static_cast<char>(row[static_cast<std::size_t>(x / 8)] | (0x80 >> (x % 8)));
     out += row;
   }
   return out;
@@ -86,7 +88,8 @@ class LegacyBitmapWriter final : public LayerWriter {
       std::transform(labels.values().begin(), labels.values().end(), bits.begin(),
                      [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
       const std::string file = file_name(index, j);
-      write_file_atomic(c_.dir / file, encode_bmp1(labels.width_px(), labels.height_px(), bits.data(), c_.pitch_x_mm, c_.pitch_y_mm));
+      write_file_atomic(c_.dir / file,
+                        encode_bmp1(labels.width_px(), labels.height_px(), bits.data(), c_.pitch_x_mm, c_.pitch_y_mm));
       files.push_back(file);
     }
     return files;
@@ -108,7 +111,8 @@ class LegacyBitmapWriter final : public LayerWriter {
     text += fmt::format("slice_count {}\n", c_.total_layers);
     text += fmt::format("pixel_mm {} {}\n", c_.pitch_x_mm, c_.pitch_y_mm);
     text += fmt::format("material_count {}\n", c_.material_names.size());
-    for (std::size_t j = 0; j < c_.material_names.size(); ++j) text += fmt::format("material {} {}\n", j + 1, c_.material_names[j]);
+    for (std::size_t j = 0; j < c_.material_names.size(); ++j)
+      text += fmt::format("material {} {}\n", j + 1, c_.material_names[j]);
     for (int i = 0; i < c_.total_layers; ++i) {
       text += fmt::format("slice {}", i + 1);
       for (std::size_t j = 0; j < c_.material_names.size(); ++j)
@@ -119,7 +123,8 @@ class LegacyBitmapWriter final : public LayerWriter {
   }
 
   std::string file_name(int index, std::size_t material) const {
-    return fmt::format("legacy/{}{}_{}.bmp", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[material]);
+    return fmt::format("legacy/{}{}_{}.bmp", c_.prefix, layer_number(index, c_.total_layers),
+                       c_.material_names[material]);
   }
   OutputContext c_;
 };

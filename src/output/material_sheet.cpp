@@ -18,8 +18,7 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-std::string row(int label, const std::string& name, const std::string& library,
-                const std::array<std::uint8_t, 4>& c) {
+std::string row(int label, const std::string& name, const std::string& library, const std::array<std::uint8_t, 4>& c) {
   return fmt::format("{},{},{},#{:02X}{:02X}{:02X}{:02X},{},{},{},{}\n", label, csv_field(name), csv_field(library),
                      c[0], c[1], c[2], c[3], c[0], c[1], c[2], c[3]);
 }
@@ -37,8 +36,7 @@ std::string material_sheet_csv(const std::array<std::uint8_t, 4>& background_rgb
   return text;
 }
 
-void write_material_sheet(const std::filesystem::path& path,
-                          const std::array<std::uint8_t, 4>& background_rgba,
+void write_material_sheet(const std::filesystem::path& path, const std::array<std::uint8_t, 4>& background_rgba,
                           const std::vector<MaterialSheetRow>& materials) {
   write_file_atomic(path, material_sheet_csv(background_rgba, materials));
 }

@@ -16,7 +16,8 @@ inline int resampled_count(int n, double pitch, double target) {
 
 // Source index of target sample i of m, for n source samples (nearest at the sample centre).
 inline int source_index(int i, int m, int n) {
-  return std::min(n - 1, static_cast<int>((static_cast<std::int64_t>(2 * i + 1) * n) / (2 * static_cast<std::int64_t>(m))));
+  return std::min(n - 1,
+                  static_cast<int>((static_cast<std::int64_t>(2 * i + 1) * n) / (2 * static_cast<std::int64_t>(m))));
 }
 
 }  // namespace trivox::detail

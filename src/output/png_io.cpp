@@ -21,32 +21,22 @@ namespace trivox {
 
 std::string_view to_string(PngFilter filter) noexcept {
   switch (filter) {
-    case PngFilter::kNone:
-      return "none";
-    case PngFilter::kSub:
-      return "sub";
-    case PngFilter::kUp:
-      return "up";
-    case PngFilter::kAverage:
-      return "average";
-    case PngFilter::kPaeth:
-      return "paeth";
-    case PngFilter::kAdaptive:
-      return "adaptive";
+    case PngFilter::kNone: return "none";
+    case PngFilter::kSub: return "sub";
+    case PngFilter::kUp: return "up";
+    case PngFilter::kAverage: return "average";
+    case PngFilter::kPaeth: return "paeth";
+    case PngFilter::kAdaptive: return "adaptive";
   }
   return "unknown";
 }
 
 std::string_view to_string(PngStrategy strategy) noexcept {
   switch (strategy) {
-    case PngStrategy::kDefault:
-      return "default";
-    case PngStrategy::kFiltered:
-      return "filtered";
-    case PngStrategy::kRle:
-      return "rle";
-    case PngStrategy::kHuffmanOnly:
-      return "huffman-only";
+    case PngStrategy::kDefault: return "default";
+    case PngStrategy::kFiltered: return "filtered";
+    case PngStrategy::kRle: return "rle";
+    case PngStrategy::kHuffmanOnly: return "huffman-only";
   }
   return "unknown";
 }
@@ -56,14 +46,10 @@ namespace {
 // zlib's constant for a strategy; -1 for a value outside the enumeration.
 int zlib_strategy(PngStrategy strategy) noexcept {
   switch (strategy) {
-    case PngStrategy::kDefault:
-      return Z_DEFAULT_STRATEGY;
-    case PngStrategy::kFiltered:
-      return Z_FILTERED;
-    case PngStrategy::kRle:
-      return Z_RLE;
-    case PngStrategy::kHuffmanOnly:
-      return Z_HUFFMAN_ONLY;
+    case PngStrategy::kDefault: return Z_DEFAULT_STRATEGY;
+    case PngStrategy::kFiltered: return Z_FILTERED;
+    case PngStrategy::kRle: return Z_RLE;
+    case PngStrategy::kHuffmanOnly: return Z_HUFFMAN_ONLY;
   }
   return -1;
 }
@@ -71,25 +57,17 @@ int zlib_strategy(PngStrategy strategy) noexcept {
 // libpng's bit mask for a filter choice; 0 for a value outside the enumeration.
 int png_filter_mask(PngFilter filter) noexcept {
   switch (filter) {
-    case PngFilter::kNone:
-      return PNG_FILTER_NONE;
-    case PngFilter::kSub:
-      return PNG_FILTER_SUB;
-    case PngFilter::kUp:
-      return PNG_FILTER_UP;
-    case PngFilter::kAverage:
-      return PNG_FILTER_AVG;
-    case PngFilter::kPaeth:
-      return PNG_FILTER_PAETH;
-    case PngFilter::kAdaptive:
-      return PNG_ALL_FILTERS;
+    case PngFilter::kNone: return PNG_FILTER_NONE;
+    case PngFilter::kSub: return PNG_FILTER_SUB;
+    case PngFilter::kUp: return PNG_FILTER_UP;
+    case PngFilter::kAverage: return PNG_FILTER_AVG;
+    case PngFilter::kPaeth: return PNG_FILTER_PAETH;
+    case PngFilter::kAdaptive: return PNG_ALL_FILTERS;
   }
   return 0;
 }
 
-std::string errno_text(int error_number) {
-  return std::error_code(error_number, std::generic_category()).message();
-}
+std::string errno_text(int error_number) { return std::error_code(error_number, std::generic_category()).message(); }
 
 // ---- libpng calls ------------------------------------------------------------------------
 //
@@ -138,8 +116,7 @@ struct PngWriteJob {
 };
 
 bool write_png_core(PngWriteJob* job) noexcept {
-  png_structp png =
-      png_create_write_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
   if (png == nullptr) {
     std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng writer");
     return false;
@@ -158,8 +135,8 @@ bool write_png_core(PngWriteJob* job) noexcept {
   png_set_compression_level(png, job->zlib_level);
   png_set_compression_strategy(png, job->zlib_strategy);
   png_set_filter(png, PNG_FILTER_TYPE_BASE, job->filter_mask);
-  png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
+  png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
   if (job->palette_size > 0) png_set_PLTE(png, info, job->palette, job->palette_size);
   png_write_info(png, info);
   for (png_uint_32 y = 0; y < job->height; ++y) {
@@ -209,8 +186,7 @@ struct PngReadJob {
 };
 
 bool read_png_core(PngReadJob* job) noexcept {
-  png_structp png =
-      png_create_read_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &job->error, on_png_error, on_png_warning);
   if (png == nullptr) {
     std::snprintf(job->error.text, sizeof job->error.text, "cannot create a libpng reader");
     return false;
@@ -263,17 +239,17 @@ bool read_png_core(PngReadJob* job) noexcept {
 // a slice at 300 dpi that large would be 85 m long.
 constexpr int kMaxPngSidePx = 1000000;
 
-void check_size(const std::filesystem::path& path, int width_px, int height_px,
-                std::size_t bytes_per_pixel, std::size_t given) {
+void check_size(const std::filesystem::path& path, int width_px, int height_px, std::size_t bytes_per_pixel,
+                std::size_t given) {
   if (width_px < 1 || height_px < 1 || width_px > kMaxPngSidePx || height_px > kMaxPngSidePx) {
-    throw Error(fmt::format("{}: PNG size {} x {} px is not within 1..{} per side", path.string(),
-                            width_px, height_px, kMaxPngSidePx));
+    throw Error(fmt::format("{}: PNG size {} x {} px is not within 1..{} per side", path.string(), width_px, height_px,
+                            kMaxPngSidePx));
   }
   const std::size_t expected =
       static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px) * bytes_per_pixel;
   if (given != expected) {
-    throw Error(fmt::format("{}: {} x {} px needs {} bytes of pixels, got {}", path.string(),
-                            width_px, height_px, expected, given));
+    throw Error(fmt::format("{}: {} x {} px needs {} bytes of pixels, got {}", path.string(), width_px, height_px,
+                            expected, given));
   }
 }
 
@@ -294,8 +270,8 @@ void write_png(const std::filesystem::path& path, const PngWriteParams& params, 
   temp.commit();
 }
 
-PngWriteJob make_job(const unsigned char* pixels, std::size_t row_stride, int width_px,
-                     int height_px, int bit_depth, int color_type) {
+PngWriteJob make_job(const unsigned char* pixels, std::size_t row_stride, int width_px, int height_px, int bit_depth,
+                     int color_type) {
   PngWriteJob job{};
   job.pixels = pixels;
   job.row_stride = row_stride;
@@ -313,22 +289,19 @@ void PngWriteParams::validate() const {
     throw Error(fmt::format("png params: zlib_level = {} is outside [0, 9]", zlib_level));
   }
   if (png_filter_mask(filter) == 0) {
-    throw Error(
-        fmt::format("png params: filter = {} is not a known PNG filter", static_cast<int>(filter)));
+    throw Error(fmt::format("png params: filter = {} is not a known PNG filter", static_cast<int>(filter)));
   }
   if (zlib_strategy(strategy) < 0) {
-    throw Error(fmt::format("png params: strategy = {} is not a known zlib strategy",
-                            static_cast<int>(strategy)));
+    throw Error(fmt::format("png params: strategy = {} is not a known zlib strategy", static_cast<int>(strategy)));
   }
 }
 
-void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px,
-                    std::span<const std::uint8_t> rgba, const PngWriteParams& params) {
+void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> rgba,
+                    const PngWriteParams& params) {
   params.validate();
   check_size(path, width_px, height_px, 4, rgba.size());
   write_png(path, params,
-            make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
-                     PNG_COLOR_TYPE_RGBA));
+            make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8, PNG_COLOR_TYPE_RGBA));
 }
 
 void write_png_rgba_rows(const std::filesystem::path& path, int width_px, int height_px,
@@ -344,8 +317,7 @@ void write_png_rgba_rows(const std::filesystem::path& path, int width_px, int he
   write_png(path, params, job);
 }
 
-void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
-                    const PngWriteParams& params) {
+void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image, const PngWriteParams& params) {
   write_png_rgba(path, image.width_px, image.height_px, image.rgba, params);
 }
 
@@ -358,9 +330,10 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
   char* buffer = nullptr;
   std::size_t size = 0;
   std::FILE* stream = ::open_memstream(&buffer, &size);
-  if (stream == nullptr) throw IoError(fmt::format("{}: cannot open a memory stream: {}", what.string(), errno_text(errno)));
-  PngWriteJob job = make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
-                             PNG_COLOR_TYPE_RGBA);
+  if (stream == nullptr)
+    throw IoError(fmt::format("{}: cannot open a memory stream: {}", what.string(), errno_text(errno)));
+  PngWriteJob job =
+      make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8, PNG_COLOR_TYPE_RGBA);
   job.file = stream;
   job.zlib_level = params.zlib_level;
   job.zlib_strategy = zlib_strategy(params.strategy);
@@ -376,14 +349,13 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
 }
 
 void write_png_indexed(const std::filesystem::path& path, int width_px, int height_px,
-                       std::span<const std::uint8_t> indices,
-                       std::span<const std::array<std::uint8_t, 3>> palette,
+                       std::span<const std::uint8_t> indices, std::span<const std::array<std::uint8_t, 3>> palette,
                        const PngWriteParams& params) {
   params.validate();
   check_size(path, width_px, height_px, 1, indices.size());
   if (palette.empty() || palette.size() > 256)
-    throw Error(fmt::format("{}: an indexed PNG takes 1 to 256 palette colours, not {}", path.string(),
-                            palette.size()));
+    throw Error(
+        fmt::format("{}: an indexed PNG takes 1 to 256 palette colours, not {}", path.string(), palette.size()));
   const int bits = palette.size() <= 2 ? 1 : palette.size() <= 4 ? 2 : palette.size() <= 16 ? 4 : 8;
   // PNG packs pixels narrower than a byte leftmost first, in the most significant bits.
   const std::size_t width = static_cast<std::size_t>(width_px);
@@ -409,13 +381,12 @@ void write_png_indexed(const std::filesystem::path& path, int width_px, int heig
   write_png(path, params, job);
 }
 
-void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,
-                     std::span<const std::uint8_t> gray, const PngWriteParams& params) {
+void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> gray,
+                     const PngWriteParams& params) {
   params.validate();
   check_size(path, width_px, height_px, 1, gray.size());
   write_png(path, params,
-            make_job(gray.data(), static_cast<std::size_t>(width_px), width_px, height_px, 8,
-                     PNG_COLOR_TYPE_GRAY));
+            make_job(gray.data(), static_cast<std::size_t>(width_px), width_px, height_px, 8, PNG_COLOR_TYPE_GRAY));
 }
 
 void write_png_gray1(const std::filesystem::path& path, int width_px, int height_px,
@@ -433,8 +404,7 @@ void write_png_gray1(const std::filesystem::path& path, int width_px, int height
       if (in[x] != 0) out[x / 8] = static_cast<std::uint8_t>(out[x / 8] | (0x80u >> (x % 8)));
     }
   }
-  write_png(path, params,
-            make_job(packed.data(), stride, width_px, height_px, 1, PNG_COLOR_TYPE_GRAY));
+  write_png(path, params, make_job(packed.data(), stride, width_px, height_px, 1, PNG_COLOR_TYPE_GRAY));
 }
 
 RgbaImage read_png_rgba(const std::filesystem::path& path) {

@@ -24,8 +24,8 @@ namespace trivox::detail {
 namespace {
 
 constexpr int kMaxSheetLayers = 64;
-constexpr int kThumbSidePx = 160;         // longer side of a thumbnail
-constexpr std::uint8_t kGridGray = 128;   // lines between thumbnails
+constexpr int kThumbSidePx = 160;        // longer side of a thumbnail
+constexpr std::uint8_t kGridGray = 128;  // lines between thumbnails
 
 class PreviewWriter final : public LayerWriter {
  public:
@@ -83,11 +83,12 @@ class PreviewWriter final : public LayerWriter {
     const auto th = static_cast<std::uint64_t>(resampled_count(height_, c_.pitch_y_mm, thumb_pitch));
     const auto cols = static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(sheet_count_))));
     const std::uint64_t rows = (static_cast<std::uint64_t>(sheet_count_) + cols - 1) / cols;
-    const auto iso = [&](int count, double pitch) { return static_cast<std::uint64_t>(resampled_count(count, pitch, iso_pitch())); };
-    const std::uint64_t images[] = {(cols * (tw + 1) + 1) * (rows * (th + 1) + 1),
-                                    iso(width_, c_.pitch_x_mm) * iso(height_, c_.pitch_y_mm),
-                                    iso(width_, c_.pitch_x_mm) * iso(n, c_.layer_mm),
-                                    iso(height_, c_.pitch_y_mm) * iso(n, c_.layer_mm)};
+    const auto iso = [&](int count, double pitch) {
+      return static_cast<std::uint64_t>(resampled_count(count, pitch, iso_pitch()));
+    };
+    const std::uint64_t images[] = {
+        (cols * (tw + 1) + 1) * (rows * (th + 1) + 1), iso(width_, c_.pitch_x_mm) * iso(height_, c_.pitch_y_mm),
+        iso(width_, c_.pitch_x_mm) * iso(n, c_.layer_mm), iso(height_, c_.pitch_y_mm) * iso(n, c_.layer_mm)};
     std::uint64_t largest = 0;
     for (const std::uint64_t pixels : images) {
       cost.file_bytes += 4 * pixels + 1024;  // and the file's headers
@@ -95,7 +96,8 @@ class PreviewWriter final : public LayerWriter {
     }
     const auto w = static_cast<std::uint64_t>(width_), h = static_cast<std::uint64_t>(height_);
     // The rows, columns, thumbnails and middle layer collected, and one image being encoded.
-    cost.memory_bytes = (w + h) * static_cast<std::uint64_t>(n) + static_cast<std::uint64_t>(sheet_count_) * tw * th + w * h + largest;
+    cost.memory_bytes =
+        (w + h) * static_cast<std::uint64_t>(n) + static_cast<std::uint64_t>(sheet_count_) * tw * th + w * h + largest;
     return cost;
   }
 
@@ -164,7 +166,8 @@ class PreviewWriter final : public LayerWriter {
   }
 
   // A vertical cut: one line of each layer, the top layer at the top of the image.
-  std::string write_cut(const std::string& file, const std::vector<std::vector<std::uint8_t>>& lines, double pitch) const {
+  std::string write_cut(const std::string& file, const std::vector<std::vector<std::uint8_t>>& lines,
+                        double pitch) const {
     const int n = static_cast<int>(lines.front().size()), layers = static_cast<int>(lines.size());
     const int w = resampled_count(n, pitch, iso_pitch());
     const int h = resampled_count(layers, c_.layer_mm, iso_pitch());
@@ -188,9 +191,9 @@ class PreviewWriter final : public LayerWriter {
 
   mutable std::mutex mutex_;
   mutable int width_ = 0, height_ = 0;
-  mutable std::vector<LabelImage> thumbs_;                // per sheet slot
-  mutable std::vector<std::vector<std::uint8_t>> rows_;   // middle row of each layer
-  mutable std::vector<std::vector<std::uint8_t>> cols_;   // middle column of each layer
+  mutable std::vector<LabelImage> thumbs_;               // per sheet slot
+  mutable std::vector<std::vector<std::uint8_t>> rows_;  // middle row of each layer
+  mutable std::vector<std::vector<std::uint8_t>> cols_;  // middle column of each layer
   mutable LabelImage middle_;
 };
 

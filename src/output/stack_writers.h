@@ -35,7 +35,8 @@ std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context);
 // Throws Error unless every material and the background have distinct RGBA colours.
 std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context);
 // The 8-bit RGBA pixels of `labels` in `palette`'s colours, row-major, top row first.
-std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels, const std::vector<std::array<std::uint8_t, 4>>& palette);
+std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels,
+                                          const std::vector<std::array<std::uint8_t, 4>>& palette);
 // The same for row y alone, into `rgba` (labels.width_px() * 4 bytes).
 void voxelprint_rgba_row(const LabelImage& labels, int y, const std::vector<std::array<std::uint8_t, 4>>& palette,
                          std::span<std::uint8_t> rgba);

@@ -45,7 +45,8 @@ int on_tiff_warning(TIFF*, void*, const char*, const char*, va_list) { return 1;
 
 // Why a stdio call failed, from errno (which a short write need not set).
 std::string errno_reason(int error_number) {
-  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message() : std::string("short write");
+  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message()
+                           : std::string("short write");
 }
 
 // A TIFF opened with our handlers, closed by the destructor.
@@ -101,11 +102,13 @@ int read_tiff_stack(const std::filesystem::path& path, const std::function<void(
     for (std::uint32_t strip = 0; strip < TIFFNumberOfStrips(tif.get()); ++strip) {
       const tmsize_t n = TIFFReadEncodedStrip(tif.get(), strip, labels.values().data() + at,
                                               static_cast<tmsize_t>(labels.values().size() - at));
-      if (n < 0) throw IoError(fmt::format("{}: page {} cannot be decoded: {}", path.string(), page + 1, tif.message()));
+      if (n < 0)
+        throw IoError(fmt::format("{}: page {} cannot be decoded: {}", path.string(), page + 1, tif.message()));
       at += static_cast<std::size_t>(n);
     }
     if (at != labels.values().size())
-      throw IoError(fmt::format("{}: page {} holds {} of its {} pixels", path.string(), page + 1, at, labels.values().size()));
+      throw IoError(
+          fmt::format("{}: page {} holds {} of its {} pixels", path.string(), page + 1, at, labels.values().size()));
     visit(page, labels);
     ++page;
     // TIFFReadDirectory returns 0 both at the last page and on a broken directory; only the
@@ -113,7 +116,8 @@ int read_tiff_stack(const std::filesystem::path& path, const std::function<void(
     tif.clear_message();
     if (TIFFReadDirectory(tif.get()) != 1) {
       if (tif.message()[0] != '\0')
-        throw IoError(fmt::format("{}: the directory after page {} is unreadable: {}", path.string(), page, tif.message()));
+        throw IoError(
+            fmt::format("{}: the directory after page {} is unreadable: {}", path.string(), page, tif.message()));
       return page;
     }
   } while (true);
@@ -166,15 +170,17 @@ class TiffStackWriter final : public LayerWriter {
   StackCost stack_cost(const StackSampling& sampling) const override {
     std::lock_guard lock(mutex_);
     const auto page = [&](int index) {
-      return index >= 0 && static_cast<std::size_t>(index) < pages_.size() ? pages_[static_cast<std::size_t>(index)].size
-                                                                             : std::uint64_t{0};
+      return index >= 0 && static_cast<std::size_t>(index) < pages_.size()
+                 ? pages_[static_cast<std::size_t>(index)].size
+                 : std::uint64_t{0};
     };
     StackCost cost;
     cost.files = 1;
     cost.scratch_bytes = scaled_to_job(sampling, page);
     cost.file_bytes = 8 + cost.scratch_bytes +
                       kPageOverheadBytes * static_cast<std::uint64_t>(sampling.model_layers + sampling.padded_layers);
-    for (int index : sampling.model_samples) cost.memory_bytes = std::max(cost.memory_bytes, page(index));  // one page at a time
+    for (int index : sampling.model_samples)
+      cost.memory_bytes = std::max(cost.memory_bytes, page(index));  // one page at a time
     return cost;
   }
 
@@ -205,7 +211,8 @@ class TiffStackWriter final : public LayerWriter {
       const auto [offset, size] = pages_[static_cast<std::size_t>(i)];
       if (size == 0) throw Error(fmt::format("tiff: layer {} never reached the TIFF writer", i + 1));
       page.resize(size);
-      if (std::fseek(spool_, static_cast<long>(offset), SEEK_SET) != 0 || std::fread(page.data(), 1, size, spool_) != size)
+      if (std::fseek(spool_, static_cast<long>(offset), SEEK_SET) != 0 ||
+          std::fread(page.data(), 1, size, spool_) != size)
         throw IoError(fmt::format("{}: cannot read the page spool", spool_path_.string()));
       TIFF* t = tif.get();
       TIFFSetField(t, TIFFTAG_SUBFILETYPE, FILETYPE_PAGE);

@@ -71,7 +71,8 @@ constexpr std::size_t kUuidChars = 36;
 
 // Why a stdio or stream call failed, from errno (which a short write need not set).
 std::string errno_reason(int error_number) {
-  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message() : std::string("short write");
+  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message()
+                           : std::string("short write");
 }
 
 bool looks_like_uuid(const char* s) {
@@ -93,15 +94,17 @@ void make_uuid_deterministic(const std::filesystem::path& file, const std::files
     }
   } close{f};
   char uuid[kUuidChars + 1] = {};
-  if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fread(uuid, 1, kUuidChars, f) != kUuidChars || !looks_like_uuid(uuid))
-    throw IoError(fmt::format("{}: the OpenVDB header has no file UUID where expected (byte {})", target.string(), kUuidOffset));
+  if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fread(uuid, 1, kUuidChars, f) != kUuidChars ||
+      !looks_like_uuid(uuid))
+    throw IoError(
+        fmt::format("{}: the OpenVDB header has no file UUID where expected (byte {})", target.string(), kUuidOffset));
   const std::string zero = "00000000-0000-0000-0000-000000000000";
   if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fwrite(zero.data(), 1, kUuidChars, f) != kUuidChars ||
       std::fflush(f) != 0)
     throw IoError(fmt::format("{}: cannot write {}", target.string(), file.string()));
   const std::string h = sha256_file(file).sha256;
-  const std::string id = fmt::format("{}-{}-{}-{}-{}", h.substr(0, 8), h.substr(8, 4), h.substr(12, 4), h.substr(16, 4),
-                                     h.substr(20, 12));
+  const std::string id =
+      fmt::format("{}-{}-{}-{}-{}", h.substr(0, 8), h.substr(8, 4), h.substr(12, 4), h.substr(16, 4), h.substr(20, 12));
   if (std::fseek(f, kUuidOffset, SEEK_SET) != 0 || std::fwrite(id.data(), 1, kUuidChars, f) != kUuidChars ||
       std::fflush(f) != 0 || ::fsync(::fileno(f)) != 0)
     throw IoError(fmt::format("{}: cannot write {}", target.string(), file.string()));
@@ -138,7 +141,8 @@ std::vector<VdbGridSummary> read_vdb_stack(const std::filesystem::path& path) {
         const openvdb::FloatGrid::Ptr grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
         if (!grid) throw IoError(fmt::format("{}: grid '{}' is not a float grid", path.string(), base->getName()));
         const openvdb::math::Transform& xf = grid->transform();
-        if (!xf.isLinear()) throw IoError(fmt::format("{}: grid '{}' has no linear transform", path.string(), grid->getName()));
+        if (!xf.isLinear())
+          throw IoError(fmt::format("{}: grid '{}' has no linear transform", path.string(), grid->getName()));
         VdbGridSummary s;
         s.name = grid->getName();
         s.value_type = grid->valueType();
@@ -250,7 +254,8 @@ class VdbWriter final : public LayerWriter {
     const auto measure = [&](int filled) {
       return on_calling_thread([&] {
         const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(
-            8 * samples, [&](int k) { return k % 8 < filled ? sampling.model_samples[static_cast<std::size_t>(k / 8)] : -1; },
+            8 * samples,
+            [&](int k) { return k % 8 < filled ? sampling.model_samples[static_cast<std::size_t>(k / 8)] : -1; },
             c_.dir / "vdb");
         std::uint64_t memory = 0;
         for (const auto& g : grids) memory += static_cast<std::uint64_t>(g->memUsage());
@@ -271,7 +276,8 @@ class VdbWriter final : public LayerWriter {
     std::uint64_t largest_blob = 0;
     for (int index : sampling.model_samples) largest_blob = std::max(largest_blob, spool_->size(index));
     // The grids, one layer of labels and its compressed form.
-    cost.memory_bytes = total.first + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
+    cost.memory_bytes =
+        total.first + static_cast<std::uint64_t>(width_) * static_cast<std::uint64_t>(height_) + largest_blob;
     return cost;
   }
 
@@ -283,14 +289,16 @@ class VdbWriter final : public LayerWriter {
   std::vector<std::string> write_file() const {
     const std::string file = "vdb/stack.vdb";
     const std::filesystem::path target = c_.dir / file;
-    const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(c_.total_layers, [](int k) { return k; }, target);
+    const std::vector<openvdb::FloatGrid::Ptr> grids = build_grids(
+        c_.total_layers, [](int k) { return k; }, target);
     // OpenVDB writes to a stream of its own: the atomic file gives it the temporary name,
     // removes it on failure and, once whole, syncs it and renames it over the target.
     AtomicFile atomic(target);
     const std::filesystem::path& temp = atomic.temporary();
     {
       std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-      if (!out) throw IoError(fmt::format("{}: cannot create {}: {}", target.string(), temp.string(), errno_reason(errno)));
+      if (!out)
+        throw IoError(fmt::format("{}: cannot create {}: {}", target.string(), temp.string(), errno_reason(errno)));
       try {
         errno = 0;
         CheckedArchive().write_to(out, openvdb::GridCPtrVec(grids.begin(), grids.end()), file_metadata());
@@ -299,9 +307,12 @@ class VdbWriter final : public LayerWriter {
         throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), e.what()));
       }
       const int error_number = errno;
-      if (!out) throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), errno_reason(error_number)));
+      if (!out)
+        throw IoError(
+            fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), errno_reason(error_number)));
       out.close();
-      if (!out) throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), errno_reason(errno)));
+      if (!out)
+        throw IoError(fmt::format("{}: cannot write {}: {}", target.string(), temp.string(), errno_reason(errno)));
     }
     make_uuid_deterministic(temp, target);
     atomic.commit();
@@ -380,7 +391,9 @@ class VdbWriter final : public LayerWriter {
 
 }  // namespace
 
-std::unique_ptr<LayerWriter> make_vdb_writer(const OutputContext& context) { return std::make_unique<VdbWriter>(context); }
+std::unique_ptr<LayerWriter> make_vdb_writer(const OutputContext& context) {
+  return std::make_unique<VdbWriter>(context);
+}
 
 }  // namespace detail
 

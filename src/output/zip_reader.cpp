@@ -30,7 +30,8 @@ std::uint64_t field(const std::string& s, std::size_t at, int bytes) {
 }
 
 std::string errno_text(int error_number) {
-  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message() : std::string("end of file");
+  return error_number != 0 ? std::error_code(error_number, std::generic_category()).message()
+                           : std::string("end of file");
 }
 
 }  // namespace
@@ -38,7 +39,8 @@ std::string errno_text(int error_number) {
 ZipReader::ZipReader(const std::filesystem::path& path) : path_(path) {
   file_ = std::fopen(path.c_str(), "rb");
   if (file_ == nullptr) throw IoError(fmt::format("{}: cannot open: {}", path.string(), errno_text(errno)));
-  if (::fseeko(file_, 0, SEEK_END) != 0) throw IoError(fmt::format("{}: cannot read: {}", path.string(), errno_text(errno)));
+  if (::fseeko(file_, 0, SEEK_END) != 0)
+    throw IoError(fmt::format("{}: cannot read: {}", path.string(), errno_text(errno)));
   file_size_ = static_cast<std::uint64_t>(::ftello(file_));
   const std::string where = path.string();
 
@@ -52,7 +54,8 @@ ZipReader::ZipReader(const std::filesystem::path& path) : path_(path) {
       end_at = at;
       break;
     }
-  if (end_at == std::string::npos) throw IoError(fmt::format("{}: not a zip archive: no end of central directory record", where));
+  if (end_at == std::string::npos)
+    throw IoError(fmt::format("{}: not a zip archive: no end of central directory record", where));
   const std::uint64_t end_offset = file_size_ - tail_size + end_at;
   if (field(tail, end_at + 4, 2) != 0 || field(tail, end_at + 6, 2) != 0)
     throw IoError(fmt::format("{}: a zip archive split over several disks is not supported", where));
@@ -62,22 +65,27 @@ ZipReader::ZipReader(const std::filesystem::path& path) : path_(path) {
   std::uint64_t cd_end_limit = end_offset;  // the central directory ends before the end records
   if (count == kMax16 || cd_size == kMax32 || cd_offset == kMax32) {
     // ZIP64: a locator just before the end record points to the ZIP64 end record.
-    if (end_offset < 20) throw IoError(fmt::format("{}: the end record asks for ZIP64 records, which are missing", where));
+    if (end_offset < 20)
+      throw IoError(fmt::format("{}: the end record asks for ZIP64 records, which are missing", where));
     const std::string locator = bytes_at(end_offset - 20, 20, "the ZIP64 locator");
     if (field(locator, 0, 4) != kZip64Locator)
       throw IoError(fmt::format("{}: the end record asks for ZIP64 records, which are missing", where));
     const std::uint64_t record_offset = field(locator, 8, 8);
-    if (record_offset + 56 > end_offset - 20) throw IoError(fmt::format("{}: the ZIP64 locator points outside the archive", where));
+    if (record_offset + 56 > end_offset - 20)
+      throw IoError(fmt::format("{}: the ZIP64 locator points outside the archive", where));
     const std::string record = bytes_at(record_offset, 56, "the ZIP64 end record");
-    if (field(record, 0, 4) != kZip64EndRecord) throw IoError(fmt::format("{}: no ZIP64 end record where the locator points", where));
+    if (field(record, 0, 4) != kZip64EndRecord)
+      throw IoError(fmt::format("{}: no ZIP64 end record where the locator points", where));
     count = field(record, 32, 8);
     cd_size = field(record, 40, 8);
     cd_offset = field(record, 48, 8);
     cd_end_limit = record_offset;
   }
   if (cd_offset > cd_end_limit || cd_size > cd_end_limit - cd_offset)
-    throw IoError(fmt::format("{}: the central directory ({} bytes at {}) lies outside the archive", where, cd_size, cd_offset));
-  if (count > cd_size / 46) throw IoError(fmt::format("{}: {} entries cannot fit a central directory of {} bytes", where, count, cd_size));
+    throw IoError(
+        fmt::format("{}: the central directory ({} bytes at {}) lies outside the archive", where, cd_size, cd_offset));
+  if (count > cd_size / 46)
+    throw IoError(fmt::format("{}: {} entries cannot fit a central directory of {} bytes", where, count, cd_size));
 
   const std::string cd = bytes_at(cd_offset, cd_size, "the central directory");
   std::size_t at = 0;
@@ -90,7 +98,8 @@ ZipReader::ZipReader(const std::filesystem::path& path) : path_(path) {
     e.crc = static_cast<std::uint32_t>(field(cd, at + 16, 4));
     e.compressed_size = field(cd, at + 20, 4);
     e.size = field(cd, at + 24, 4);
-    const std::size_t name_len = field(cd, at + 28, 2), extra_len = field(cd, at + 30, 2), comment_len = field(cd, at + 32, 2);
+    const std::size_t name_len = field(cd, at + 28, 2), extra_len = field(cd, at + 30, 2),
+                      comment_len = field(cd, at + 32, 2);
     e.header_offset = field(cd, at + 42, 4);
     if (at + 46 + name_len + extra_len + comment_len > cd.size())
       throw IoError(fmt::format("{}: central directory entry {} runs past the directory", where, i + 1));
@@ -100,7 +109,8 @@ ZipReader::ZipReader(const std::filesystem::path& path) : path_(path) {
     const std::string extra = cd.substr(at + 46 + name_len, extra_len);
     for (std::size_t x = 0; x + 4 <= extra.size();) {
       const std::uint64_t id = field(extra, x, 2), len = field(extra, x + 2, 2);
-      if (x + 4 + len > extra.size()) throw IoError(fmt::format("{}: entry '{}' has a broken extra field", where, e.name));
+      if (x + 4 + len > extra.size())
+        throw IoError(fmt::format("{}: entry '{}' has a broken extra field", where, e.name));
       if (id == 0x0001) {
         std::size_t v = x + 4;
         const auto take = [&](std::uint64_t& value) {
@@ -139,7 +149,8 @@ std::string ZipReader::bytes_at(std::uint64_t offset, std::uint64_t count, const
 std::string ZipReader::read(const Entry& e) const {
   const std::string where = fmt::format("{}: entry '{}'", path_.string(), e.name);
   const std::string local = bytes_at(e.header_offset, 30, "a local header");
-  if (field(local, 0, 4) != kLocalHeader) throw IoError(fmt::format("{}: no local header at byte {}", where, e.header_offset));
+  if (field(local, 0, 4) != kLocalHeader)
+    throw IoError(fmt::format("{}: no local header at byte {}", where, e.header_offset));
   const std::uint64_t name_len = field(local, 26, 2), extra_len = field(local, 28, 2);
   if (bytes_at(e.header_offset + 30, name_len, "a local header") != e.name)
     throw IoError(fmt::format("{}: the local header names another entry", where));
@@ -176,7 +187,8 @@ std::string ZipReader::read(const Entry& e) const {
     if (status != Z_STREAM_END || out_left != 0 || in_left != 0)
       throw IoError(fmt::format("{}: the deflated data is broken or not {} bytes long", where, e.size));
   } else {
-    throw IoError(fmt::format("{}: compression method {} is not supported (only stored and deflated)", where, e.method));
+    throw IoError(
+        fmt::format("{}: compression method {} is not supported (only stored and deflated)", where, e.method));
   }
   uLong crc = crc32(0L, Z_NULL, 0);
   for (std::size_t done = 0; done < bytes.size();) {
@@ -185,7 +197,8 @@ std::string ZipReader::read(const Entry& e) const {
     done += n;
   }
   if (static_cast<std::uint32_t>(crc) != e.crc)
-    throw IoError(fmt::format("{}: CRC-32 {:08x} differs from the archive's {:08x}", where, static_cast<std::uint32_t>(crc), e.crc));
+    throw IoError(fmt::format("{}: CRC-32 {:08x} differs from the archive's {:08x}", where,
+                              static_cast<std::uint32_t>(crc), e.crc));
   return bytes;
 }
 

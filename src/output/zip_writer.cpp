@@ -40,7 +40,8 @@ void ZipWriter::put(std::string_view bytes) {
 }
 
 void ZipWriter::add(std::string_view name, std::string_view bytes) {
-  if (name.empty() || name.size() > kMax16) throw Error(fmt::format("{}: zip entry name '{}' is empty or too long", what_, name));
+  if (name.empty() || name.size() > kMax16)
+    throw Error(fmt::format("{}: zip entry name '{}' is empty or too long", what_, name));
   Entry e;
   e.name = std::string(name);
   e.size = bytes.size();

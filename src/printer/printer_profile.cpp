@@ -30,9 +30,7 @@ constexpr std::array<BuiltinProfile, 7> kBuiltins{{
     {"j750-paper", 0.030, 6},
 }};
 
-char ascii_lower(char c) noexcept {
-  return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c;
-}
+char ascii_lower(char c) noexcept { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
 
 bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept {
   if (a.size() != b.size()) return false;
@@ -44,8 +42,7 @@ bool equal_ignoring_case(std::string_view a, std::string_view b) noexcept {
 
 void require_positive(const PrinterProfile& profile, const char* field, double value) {
   if (!std::isfinite(value) || value <= 0.0) {
-    throw Error(fmt::format("printer profile '{}': {} = {} is not a finite value > 0", profile.name,
-                            field, value));
+    throw Error(fmt::format("printer profile '{}': {} = {} is not a finite value > 0", profile.name, field, value));
   }
 }
 
@@ -56,8 +53,7 @@ void PrinterProfile::validate() const {
   require_positive(*this, "y_dpi", y_dpi);
   require_positive(*this, "layer_thickness_mm", layer_thickness_mm);
   if (max_materials < 1) {
-    throw Error(
-        fmt::format("printer profile '{}': max_materials = {} is not >= 1", name, max_materials));
+    throw Error(fmt::format("printer profile '{}': max_materials = {} is not >= 1", name, max_materials));
   }
 }
 

@@ -17,20 +17,16 @@ namespace trivox {
 
 std::string_view to_string(DiffusionKernel kernel) noexcept {
   switch (kernel) {
-    case DiffusionKernel::kFloydSteinberg:
-      return "floyd-steinberg";
-    case DiffusionKernel::kJarvisJudiceNinke:
-      return "jarvis-judice-ninke";
-    case DiffusionKernel::kStucki:
-      return "stucki";
+    case DiffusionKernel::kFloydSteinberg: return "floyd-steinberg";
+    case DiffusionKernel::kJarvisJudiceNinke: return "jarvis-judice-ninke";
+    case DiffusionKernel::kStucki: return "stucki";
   }
   return "unknown";
 }
 
 namespace {
 constexpr std::string_view kBlueNoiseName = "blue-noise";
-constexpr std::string_view kMethodNames[] = {"floyd-steinberg", "jarvis-judice-ninke", "stucki",
-                                             kBlueNoiseName};
+constexpr std::string_view kMethodNames[] = {"floyd-steinberg", "jarvis-judice-ninke", "stucki", kBlueNoiseName};
 }  // namespace
 
 std::span<const std::string_view> dither_method_names() noexcept { return kMethodNames; }
@@ -44,8 +40,8 @@ bool set_dither_method(std::string_view name, DitherParams& params) noexcept {
     params.method = DitherMethod::kBlueNoise;
     return true;
   }
-  for (DiffusionKernel k : {DiffusionKernel::kFloydSteinberg, DiffusionKernel::kJarvisJudiceNinke,
-                            DiffusionKernel::kStucki}) {
+  for (DiffusionKernel k :
+       {DiffusionKernel::kFloydSteinberg, DiffusionKernel::kJarvisJudiceNinke, DiffusionKernel::kStucki}) {
     if (name == to_string(k)) {
       params.method = DitherMethod::kErrorDiffusion;
       params.kernel = k;
@@ -57,21 +53,16 @@ bool set_dither_method(std::string_view name, DitherParams& params) noexcept {
 
 void DitherParams::validate() const {
   if (method != DitherMethod::kErrorDiffusion && method != DitherMethod::kBlueNoise) {
-    throw Error(fmt::format("dither params: method = {} is not a known dithering method",
-                            static_cast<int>(method)));
+    throw Error(fmt::format("dither params: method = {} is not a known dithering method", static_cast<int>(method)));
   }
   if (detail::diffusion_taps(kernel).empty()) {
-    throw Error(fmt::format("dither params: kernel = {} is not a known diffusion kernel",
-                            static_cast<int>(kernel)));
+    throw Error(fmt::format("dither params: kernel = {} is not a known diffusion kernel", static_cast<int>(kernel)));
   }
   if (skin_voxels < 0 || skin_voxels > kMaxSkinVoxels) {
-    throw Error(fmt::format("dither params: skin_voxels = {} is not in [0, {}]", skin_voxels,
-                            kMaxSkinVoxels));
+    throw Error(fmt::format("dither params: skin_voxels = {} is not in [0, {}]", skin_voxels, kMaxSkinVoxels));
   }
-  if (!std::isfinite(fraction_tolerance) || fraction_tolerance < 0.0f ||
-      fraction_tolerance >= 0.5f) {
-    throw Error(fmt::format("dither params: fraction_tolerance = {} is not in [0, 0.5)",
-                            fraction_tolerance));
+  if (!std::isfinite(fraction_tolerance) || fraction_tolerance < 0.0f || fraction_tolerance >= 0.5f) {
+    throw Error(fmt::format("dither params: fraction_tolerance = {} is not in [0, 0.5)", fraction_tolerance));
   }
 }
 
@@ -100,8 +91,7 @@ inline void spread(const std::int32_t* e, std::size_t num_components, std::int32
 // so the divisions become multiplies and shifts, and each receiver is swept once over
 // contiguous components. Identical results to spread().
 template <class Kernel>
-inline void spread_all(const std::int32_t* e, std::size_t num_components,
-                       std::int32_t* const* to) noexcept {
+inline void spread_all(const std::int32_t* e, std::size_t num_components, std::int32_t* const* to) noexcept {
   constexpr auto& taps = Kernel::kTaps;
   constexpr std::size_t kLast = taps.size() - 1;
   std::int32_t* const last = to[kLast];
@@ -267,8 +257,8 @@ inline std::uint8_t threshold_label(const float* f, std::size_t m, std::int32_t 
   return LabelImage::label_of_material(static_cast<int>(m - 1));
 }
 
-void blue_noise_threshold(const MaterialGrid& fractions, const InsideMask& inside,
-                          detail::TileOffset offset, LabelImage& labels) {
+void blue_noise_threshold(const MaterialGrid& fractions, const InsideMask& inside, detail::TileOffset offset,
+                          LabelImage& labels) {
   const auto& tile = blue_noise_tile();
   const std::size_t m = static_cast<std::size_t>(fractions.num_materials());
   constexpr int kMask = kBlueNoiseTileSize - 1;
@@ -325,8 +315,8 @@ void dither_with_components(const MaterialGrid& fractions, const InsideMask& ins
   }
 }
 
-void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
-                 int layer, LabelImage& labels) {
+void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params, int layer,
+                 LabelImage& labels) {
   if (params.method == DitherMethod::kBlueNoise) {
     blue_noise_threshold(fractions, inside, detail::tile_offset(layer, params.vary_by_layer), labels);
     return;
@@ -334,12 +324,11 @@ void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const 
   const detail::ScanOrientation orientation = detail::scan_orientation(layer, params.vary_by_layer);
   switch (params.kernel) {
     case DiffusionKernel::kFloydSteinberg:
-      dither_with_components<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation,
-                                                           labels);
+      dither_with_components<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation, labels);
       return;
     case DiffusionKernel::kJarvisJudiceNinke:
-      dither_with_components<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine,
-                                                              orientation, labels);
+      dither_with_components<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine, orientation,
+                                                              labels);
       return;
     case DiffusionKernel::kStucki:
       dither_with_components<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, labels);
@@ -356,9 +345,8 @@ void dither_grid(const MaterialGrid& fractions, const InsideMask& inside, const 
   params.validate();
   if (layer < 0) throw Error(fmt::format("dither: layer = {} is negative", layer));
   if (inside.width_px() != fractions.width_px() || inside.height_px() != fractions.height_px()) {
-    throw Error(fmt::format("dither: inside mask is {} x {} px but the material grid is {} x {}",
-                            inside.width_px(), inside.height_px(), fractions.width_px(),
-                            fractions.height_px()));
+    throw Error(fmt::format("dither: inside mask is {} x {} px but the material grid is {} x {}", inside.width_px(),
+                            inside.height_px(), fractions.width_px(), fractions.height_px()));
   }
   if (check_grid) fractions.check_fractions(params.fraction_tolerance);
   if (labels.width_px() != fractions.width_px() || labels.height_px() != fractions.height_px()) {
@@ -386,8 +374,8 @@ void dither_grid(const MaterialGrid& fractions, const InsideMask& inside, const 
 
 }  // namespace
 
-void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
-            LabelImage& labels, int layer) {
+void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params, LabelImage& labels,
+            int layer) {
   dither_grid(fractions, inside, params, labels, layer, true);
 }
 
@@ -396,8 +384,7 @@ void detail::dither_checked_grid(const MaterialGrid& fractions, const InsideMask
   dither_grid(fractions, inside, params, labels, layer, false);
 }
 
-LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside,
-                  const DitherParams& params, int layer) {
+LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params, int layer) {
   LabelImage labels;
   dither(fractions, inside, params, labels, layer);
   return labels;

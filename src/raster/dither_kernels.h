@@ -1,6 +1,6 @@
 // Internal to the dithering: the diffusion kernels as tap tables, the conversion of a
-// fraction to fixed point, and the per-layer scan orientation and tile offset. Shared by src/raster/dither.cpp and the reference implementation
-// in tests/raster/dither_test.cpp, so that both read the same definitions.
+// fraction to fixed point, and the per-layer scan orientation and tile offset. Shared by src/raster/dither.cpp and the
+// reference implementation in tests/raster/dither_test.cpp, so that both read the same definitions.
 #pragma once
 
 #include <algorithm>
@@ -48,9 +48,18 @@ struct FloydSteinbergKernel {
 struct JarvisJudiceNinkeKernel {
   // Jarvis, Judice and Ninke, "A survey of techniques for the display of continuous tone
   // pictures on bilevel displays", Computer Graphics and Image Processing 5 (1976).
-  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 7}, {2, 0, 5},
-                                                       {-2, 1, 3}, {-1, 1, 5}, {0, 1, 7}, {1, 1, 5}, {2, 1, 3},
-                                                       {-2, 2, 1}, {-1, 2, 3}, {0, 2, 5}, {1, 2, 3}, {2, 2, 1}}};
+  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 7},
+                                                       {2, 0, 5},
+                                                       {-2, 1, 3},
+                                                       {-1, 1, 5},
+                                                       {0, 1, 7},
+                                                       {1, 1, 5},
+                                                       {2, 1, 3},
+                                                       {-2, 2, 1},
+                                                       {-1, 2, 3},
+                                                       {0, 2, 5},
+                                                       {1, 2, 3},
+                                                       {2, 2, 1}}};
   static constexpr std::int32_t kWeightSum = weight_sum(kTaps);  // 48
   static constexpr int kRows = rows_spanned(kTaps);
 };
@@ -58,9 +67,18 @@ struct JarvisJudiceNinkeKernel {
 struct StuckiKernel {
   // Stucki, "MECCA - a multiple-error correcting computation algorithm for bilevel image
   // hardcopy reproduction", IBM Research Report RZ1060 (1981).
-  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 8}, {2, 0, 4},
-                                                       {-2, 1, 2}, {-1, 1, 4}, {0, 1, 8}, {1, 1, 4}, {2, 1, 2},
-                                                       {-2, 2, 1}, {-1, 2, 2}, {0, 2, 4}, {1, 2, 2}, {2, 2, 1}}};
+  static constexpr std::array<DiffusionTap, 12> kTaps{{{1, 0, 8},
+                                                       {2, 0, 4},
+                                                       {-2, 1, 2},
+                                                       {-1, 1, 4},
+                                                       {0, 1, 8},
+                                                       {1, 1, 4},
+                                                       {2, 1, 2},
+                                                       {-2, 2, 1},
+                                                       {-1, 2, 2},
+                                                       {0, 2, 4},
+                                                       {1, 2, 2},
+                                                       {2, 2, 1}}};
   static constexpr std::int32_t kWeightSum = weight_sum(kTaps);  // 42
   static constexpr int kRows = rows_spanned(kTaps);
 };
@@ -68,12 +86,9 @@ struct StuckiKernel {
 // The tap table of `kernel`; empty for a value outside the enumeration.
 inline std::span<const DiffusionTap> diffusion_taps(DiffusionKernel kernel) noexcept {
   switch (kernel) {
-    case DiffusionKernel::kFloydSteinberg:
-      return FloydSteinbergKernel::kTaps;
-    case DiffusionKernel::kJarvisJudiceNinke:
-      return JarvisJudiceNinkeKernel::kTaps;
-    case DiffusionKernel::kStucki:
-      return StuckiKernel::kTaps;
+    case DiffusionKernel::kFloydSteinberg: return FloydSteinbergKernel::kTaps;
+    case DiffusionKernel::kJarvisJudiceNinke: return JarvisJudiceNinkeKernel::kTaps;
+    case DiffusionKernel::kStucki: return StuckiKernel::kTaps;
   }
   return {};
 }

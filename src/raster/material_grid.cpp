@@ -17,12 +17,11 @@ void check_raster_size(const char* what, int width_px, int height_px, int per_pi
   // 2^40 values is far beyond any printer tray (a J850 tray at 600 x 300 dpi is about
   // 12e6 pixels) and keeps every index product well inside 64 bits.
   constexpr std::uint64_t kMaxValues = std::uint64_t{1} << 40;
-  const std::uint64_t values = static_cast<std::uint64_t>(width_px) *
-                               static_cast<std::uint64_t>(height_px) *
+  const std::uint64_t values = static_cast<std::uint64_t>(width_px) * static_cast<std::uint64_t>(height_px) *
                                static_cast<std::uint64_t>(per_pixel);
   if (values > kMaxValues) {
-    throw Error(fmt::format("{}: {} x {} px with {} values per pixel is too large", what, width_px,
-                            height_px, per_pixel));
+    throw Error(
+        fmt::format("{}: {} x {} px with {} values per pixel is too large", what, width_px, height_px, per_pixel));
   }
 }
 
@@ -31,8 +30,7 @@ void check_raster_size(const char* what, int width_px, int height_px, int per_pi
 MaterialGrid::MaterialGrid(int width_px, int height_px, int num_materials)
     : width_px_(width_px), height_px_(height_px), num_materials_(num_materials) {
   if (num_materials < 1 || num_materials > kMaxMaterials) {
-    throw Error(fmt::format("material grid: num_materials = {} is outside [1, {}]", num_materials,
-                            kMaxMaterials));
+    throw Error(fmt::format("material grid: num_materials = {} is outside [1, {}]", num_materials, kMaxMaterials));
   }
   detail::check_raster_size("material grid", width_px, height_px, num_materials);
   values_.assign(static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px) *
@@ -43,19 +41,17 @@ MaterialGrid::MaterialGrid(int width_px, int height_px, int num_materials)
 namespace {
 
 // The message for a pixel that check_fractions rejected (kept out of the hot loop).
-[[noreturn]] void throw_bad_pixel(std::span<const float> f, int x, int y, float tolerance,
-                                  float sum) {
+[[noreturn]] void throw_bad_pixel(std::span<const float> f, int x, int y, float tolerance, float sum) {
   for (std::size_t k = 0; k < f.size(); ++k) {
     if (!(f[k] >= -tolerance && f[k] <= 1.0f + tolerance)) {
-      throw Error(fmt::format(
-          "material grid: pixel ({}, {}) material {}: fraction {} is not finite and in [0, 1] "
-          "(tolerance {})",
-          x, y, k, f[k], tolerance));
+      throw Error(
+          fmt::format("material grid: pixel ({}, {}) material {}: fraction {} is not finite and in [0, 1] "
+                      "(tolerance {})",
+                      x, y, k, f[k], tolerance));
     }
   }
-  throw Error(
-      fmt::format("material grid: pixel ({}, {}): fractions sum to {}, more than 1 (tolerance {})",
-                  x, y, sum, tolerance));
+  throw Error(fmt::format("material grid: pixel ({}, {}): fractions sum to {}, more than 1 (tolerance {})", x, y, sum,
+                          tolerance));
 }
 
 }  // namespace
@@ -86,8 +82,7 @@ namespace {
 
 void check_tolerance(float tolerance) {
   if (!std::isfinite(tolerance) || tolerance < 0.0f) {
-    throw Error(
-        fmt::format("material grid: fraction tolerance {} is not finite and >= 0", tolerance));
+    throw Error(fmt::format("material grid: fraction tolerance {} is not finite and >= 0", tolerance));
   }
 }
 

@@ -9,9 +9,7 @@ PixelPlane<std::uint16_t> chessboard_depth(const InsideMask& inside, std::uint16
   const int h = inside.height_px();
   PixelPlane<std::uint16_t> depth(w, h, 0);
   // Outside the image counts as outside the part: depth 0.
-  auto at = [&](int x, int y) -> int {
-    return x < 0 || y < 0 || x >= w || y >= h ? 0 : depth.at(x, y);
-  };
+  auto at = [&](int x, int y) -> int { return x < 0 || y < 0 || x >= w || y >= h ? 0 : depth.at(x, y); };
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       if (!inside.inside(x, y)) continue;

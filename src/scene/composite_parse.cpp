@@ -12,7 +12,8 @@ namespace trivox::detail {
 
 std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, SceneContext& ctx,
                                                      const ParamBox& cell_domain) {
-  if (node.is_number()) return std::make_shared<ConstantMaterial>(std::vector<float>{static_cast<float>(node.number())});
+  if (node.is_number())
+    return std::make_shared<ConstantMaterial>(std::vector<float>{static_cast<float>(node.number())});
   if (node.is_string()) {
     if (node.string().empty()) node.fail("the expression is empty");
     ExpressionParams params;
@@ -35,8 +36,11 @@ std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, Scene
     }
     return std::make_shared<FieldScalarMaterial>(std::move(field), choice, cell_domain);
   }
-  node.fail(fmt::format("expected a scalar: a number, an expression (a string), {{\"field\": ..., \"component\": k or \"magnitude\": true}} "
-                        "or {{\"texture\": ..., \"channel\": k}}, got {}", JsonView::describe(node.json())));
+  node.fail(
+      fmt::format("expected a scalar: a number, an expression (a string), {{\"field\": ..., \"component\": k or "
+                  "\"magnitude\": true}} "
+                  "or {{\"texture\": ..., \"channel\": k}}, got {}",
+                  JsonView::describe(node.json())));
 }
 
 namespace {
@@ -67,10 +71,9 @@ std::shared_ptr<const MaterialFunction> parse_composite(const std::string& kind,
   }
   if (kind == "threshold") {
     node.expect_object({"kind", "source", "level", "below", "above"});
-    return std::make_shared<ThresholdMaterial>(parse_scalar(node.at("source"), ctx, cell_domain),
-                                               node.at("level").number(),
-                                               parse_material(node.at("below"), ctx, cell_domain),
-                                               parse_material(node.at("above"), ctx, cell_domain));
+    return std::make_shared<ThresholdMaterial>(
+        parse_scalar(node.at("source"), ctx, cell_domain), node.at("level").number(),
+        parse_material(node.at("below"), ctx, cell_domain), parse_material(node.at("above"), ctx, cell_domain));
   }
   if (kind == "select") {
     node.expect_object({"kind", "regions", "otherwise"});

@@ -64,8 +64,10 @@ UntangleParams parse_untangle(const JsonView& node) {
   constexpr std::array<std::string_view, 4> kKeys = {"knots_per_span", "iterations", "samples_per_span", "target"};
   for (const auto& [key, value] : node.members())
     if (std::find(kKeys.begin(), kKeys.end(), key) == kKeys.end())
-      value.fail(fmt::format("unknown key \"{}\"; the keys allowed here are \"knots_per_span\", \"iterations\", "
-                             "\"samples_per_span\", \"target\"", key));
+      value.fail(
+          fmt::format("unknown key \"{}\"; the keys allowed here are \"knots_per_span\", \"iterations\", "
+                      "\"samples_per_span\", \"target\"",
+                      key));
   UntangleParams p;
   if (const auto v = node.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   if (const auto v = node.find("iterations")) p.iterations = v->integer_in(0, 100000);
@@ -86,13 +88,15 @@ std::vector<TensorSpline> parse_shell_faces(const JsonView& node, SceneContext& 
     return out;
   }
   if (!node.is_object())
-    node.fail(fmt::format("expected an array of six surfaces or {{\"file\": ...}}, got {}", JsonView::describe(node.json())));
+    node.fail(
+        fmt::format("expected an array of six surfaces or {{\"file\": ...}}, got {}", JsonView::describe(node.json())));
   node.expect_object({"file"});
   const JsonView file = node.at("file");
   for (const Patch& p : ctx.model(file).patches)
     if (p.spline.param_dim() == 2) out.push_back(p.spline);
   if (out.size() != 6)
-    file.fail(fmt::format("the file \"{}\" holds {} surfaces; a shell of cube topology has 6", file.string(), out.size()));
+    file.fail(
+        fmt::format("the file \"{}\" holds {} surfaces; a shell of cube topology has 6", file.string(), out.size()));
   return out;
 }
 
@@ -129,11 +133,13 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     if (const auto v = c.find("axis_dir")) p.axis_dir = nonzero_vec3(*v);
     if (const auto v = c.find("angle_deg")) {
       p.angle_deg = v->number();
-      if (!(p.angle_deg > 0.0 && p.angle_deg <= 360.0)) v->fail(fmt::format("the angle {} is not in (0, 360]", p.angle_deg));
+      if (!(p.angle_deg > 0.0 && p.angle_deg <= 360.0))
+        v->fail(fmt::format("the angle {} is not in (0, 360]", p.angle_deg));
     }
     if (const auto v = c.find("angle_param")) {
       const std::string& name = v->string();
-      if (name != "u" && name != "v" && name != "w") v->fail(fmt::format("expected \"u\", \"v\" or \"w\", got \"{}\"", name));
+      if (name != "u" && name != "v" && name != "w")
+        v->fail(fmt::format("expected \"u\", \"v\" or \"w\", got \"{}\"", name));
       p.angle_direction = name[0] - 'u';
     }
     p.check = check;
@@ -183,10 +189,14 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   if (!(p.thickness_mm > 0.0)) t.fail(fmt::format("{} is not > 0", p.thickness_mm));
   if (const auto v = c.find("side")) {
     const std::string& side = v->string();
-    if (side == "outside") p.side = ShellSide::kOutside;
-    else if (side == "inside") p.side = ShellSide::kInside;
-    else if (side == "centred" || side == "centered") p.side = ShellSide::kCentred;
-    else v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+    if (side == "outside")
+      p.side = ShellSide::kOutside;
+    else if (side == "inside")
+      p.side = ShellSide::kInside;
+    else if (side == "centred" || side == "centered")
+      p.side = ShellSide::kCentred;
+    else
+      v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
   }
   if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   p.check = check;
@@ -200,7 +210,8 @@ TensorSpline parse_patch_grid(const JsonView& grid, const JsonView& file, const 
   for (const JsonView& row : grid.elements(1, 4096)) {
     const std::vector<JsonView> entries = row.elements(1, 4096);
     if (!rows.empty() && entries.size() != cols)
-      row.fail(fmt::format("this row names {} patches, the first row {}; the grid must be rectangular", entries.size(), cols));
+      row.fail(fmt::format("this row names {} patches, the first row {}; the grid must be rectangular", entries.size(),
+                           cols));
     cols = entries.size();
     rows.emplace_back();
     for (const JsonView& e : entries) {
@@ -223,7 +234,8 @@ TensorSpline parse_patch_grid(const JsonView& grid, const JsonView& file, const 
 
 TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int param_dim) {
   const char* what = param_dim == 1 ? "curve" : "surface";
-  if (!node.is_object()) node.fail(fmt::format("expected a {} (an object), got {}", what, JsonView::describe(node.json())));
+  if (!node.is_object())
+    node.fail(fmt::format("expected a {} (an object), got {}", what, JsonView::describe(node.json())));
   if (!node.find("file")) {
     const TensorSpline s = parse_inline_spline(node, param_dim, 3);
     return s;
@@ -244,8 +256,8 @@ TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int
   if (const auto patch = node.find("patch")) {
     i = static_cast<std::size_t>(patch->integer_in(0, static_cast<int>(found.size()) - 1));
   } else if (found.size() > 1) {
-    node.fail(fmt::format("the file \"{}\" holds {} {}s; say which with \"patch\" (0 to {})", file.string(), found.size(),
-                          what, found.size() - 1));
+    node.fail(fmt::format("the file \"{}\" holds {} {}s; say which with \"patch\" (0 to {})", file.string(),
+                          found.size(), what, found.size() - 1));
   }
   const TensorSpline& s = found[i]->spline;
   if (s.point_dim() != 3)
@@ -271,8 +283,10 @@ Constructed parse_construction(const JsonView& node, SceneContext& ctx) {
   if (node.json().size() != 1 || !is_constructed_geometry(node)) {
     std::string keys;
     for (const auto& [key, value] : node.members()) keys += fmt::format("{}\"{}\"", keys.empty() ? "" : ", ", key);
-    node.fail(fmt::format("a constructed geometry is an object with exactly one key, the constructor (\"extrude\", "
-                          "\"ruled\", \"revolve\", \"sweep\", \"coons\" or \"shell\"); got {}", keys));
+    node.fail(
+        fmt::format("a constructed geometry is an object with exactly one key, the constructor (\"extrude\", "
+                    "\"ruled\", \"revolve\", \"sweep\", \"coons\" or \"shell\"); got {}",
+                    keys));
   }
   const auto [kind, c] = node.members().front();
   if (!c.is_object()) c.fail(fmt::format("expected an object, got {}", JsonView::describe(c.json())));
@@ -285,9 +299,10 @@ Volume parse_constructed_geometry(const JsonView& node, SceneContext& ctx) {
   const auto [kind, c] = node.members().front();
   const auto allow = c.find("allow_fold");
   if (built.report.folds() && !(allow && allow->boolean()))
-    c.fail(fmt::format("the constructed volume folds over itself ({}); fix the input or set \"allow_fold\": true to "
-                       "slice it anyway (each voxel then takes one of its preimages)",
-                       built.report.describe()));
+    c.fail(
+        fmt::format("the constructed volume folds over itself ({}); fix the input or set \"allow_fold\": true to "
+                    "slice it anyway (each voxel then takes one of its preimages)",
+                    built.report.describe()));
   return std::move(built.volume);
 }
 

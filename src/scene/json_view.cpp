@@ -62,8 +62,8 @@ void JsonView::expect_object(std::initializer_list<std::string_view> allowed) co
     bool known = false;
     for (std::string_view a : allowed) known = known || key == a;
     if (!known)
-      child(key, value).fail(fmt::format("unknown key \"{}\"; the keys allowed here are {}", key,
-                                         quoted_list(allowed)));
+      child(key, value)
+          .fail(fmt::format("unknown key \"{}\"; the keys allowed here are {}", key, quoted_list(allowed)));
   }
 }
 

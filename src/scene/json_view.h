@@ -44,17 +44,15 @@ class JsonView {
 
   // Elements of an array; fails when this is not an array or its size is outside
   // [min_size, max_size].
-  std::vector<JsonView> elements(std::size_t min_size = 0,
-                                 std::size_t max_size = static_cast<std::size_t>(-1)) const;
+  std::vector<JsonView> elements(std::size_t min_size = 0, std::size_t max_size = static_cast<std::size_t>(-1)) const;
 
-  double number() const;                   // a finite number
+  double number() const;                         // a finite number
   double number_in(double lo, double hi) const;  // a finite number in [lo, hi]
-  int integer() const;                     // an integral number that fits an int
-  int integer_in(int lo, int hi) const;    // an integer in [lo, hi]
+  int integer() const;                           // an integral number that fits an int
+  int integer_in(int lo, int hi) const;          // an integer in [lo, hi]
   const std::string& string() const;
   bool boolean() const;
-  std::vector<double> numbers(std::size_t min_size = 0,
-                              std::size_t max_size = static_cast<std::size_t>(-1)) const;
+  std::vector<double> numbers(std::size_t min_size = 0, std::size_t max_size = static_cast<std::size_t>(-1)) const;
 
   // A JSON value's kind in words ("an object", "the number 3", ...), for messages.
   static std::string describe(const Json& value);

@@ -27,8 +27,10 @@ std::optional<int> lookup(const std::vector<std::string>& names, std::string_vie
                                    const std::vector<std::string>& names) {
   std::string list;
   for (const std::string& n : names) list += fmt::format("{}\"{}\"", list.empty() ? "" : ", ", n);
-  where.fail(fmt::format("unknown material \"{}\"; the scene's materials are {} (and \"void\" for "
-                         "no material)", name, list));
+  where.fail(
+      fmt::format("unknown material \"{}\"; the scene's materials are {} (and \"void\" for "
+                  "no material)",
+                  name, list));
 }
 
 }  // namespace
@@ -65,8 +67,7 @@ int axis_ref(const JsonView& v) {
   v.fail(fmt::format("expected \"u\", \"v\" or \"w\", got \"{}\"", s));
 }
 
-std::shared_ptr<const MaterialFunction> spline_field(const JsonView& node, SceneContext& ctx,
-                                                     const ParamBox& domain) {
+std::shared_ptr<const MaterialFunction> spline_field(const JsonView& node, SceneContext& ctx, const ParamBox& domain) {
   node.expect_object({"kind", "components", "field"});
   std::vector<int> components;
   for (const JsonView& c : node.at("components").elements(1, kMaxMaterials)) {
@@ -77,8 +78,7 @@ std::shared_ptr<const MaterialFunction> spline_field(const JsonView& node, Scene
     components.push_back(j);
   }
   TensorSpline field = parse_field(node.at("field"), ctx, static_cast<int>(components.size()));
-  return std::make_shared<SplineFieldMaterial>(std::move(field), std::move(components),
-                                               ctx.num_materials(), domain);
+  return std::make_shared<SplineFieldMaterial>(std::move(field), std::move(components), ctx.num_materials(), domain);
 }
 
 }  // namespace
@@ -105,8 +105,7 @@ std::shared_ptr<const MaterialFunction> scalar_gradient(const JsonView& node, Sc
   return std::make_shared<ScalarGradientMaterial>(std::move(field), parse_stops(node.at("stops"), ctx), domain);
 }
 
-std::shared_ptr<const MaterialFunction> expression(const JsonView& node, SceneContext& ctx,
-                                                   const ParamBox& domain) {
+std::shared_ptr<const MaterialFunction> expression(const JsonView& node, SceneContext& ctx, const ParamBox& domain) {
   node.expect_object({"kind", "fractions", "constants"});
   ExpressionParams params;
   params.expressions.assign(static_cast<std::size_t>(ctx.num_materials()), "");
@@ -122,8 +121,8 @@ std::shared_ptr<const MaterialFunction> expression(const JsonView& node, SceneCo
       if (value.string().empty()) value.fail("the expression is empty (leave the material out for 0)");
       params.expressions[jj] = value.string();
     } else {
-      value.fail(fmt::format("expected an expression (a string) or a number, got {}",
-                             JsonView::describe(value.json())));
+      value.fail(
+          fmt::format("expected an expression (a string) or a number, got {}", JsonView::describe(value.json())));
     }
     where[jj] = value;
   }
@@ -139,8 +138,7 @@ std::shared_ptr<const MaterialFunction> expression(const JsonView& node, SceneCo
   }
 }
 
-std::shared_ptr<const MaterialFunction> porous_tiles(const JsonView& node, SceneContext& ctx,
-                                                     const ParamBox& domain) {
+std::shared_ptr<const MaterialFunction> porous_tiles(const JsonView& node, SceneContext& ctx, const ParamBox& domain) {
   node.expect_object({"kind", "tiles", "radius", "materials", "cylinder_axes"});
   PorousTilesParams p;
   const JsonView tiles = node.at("tiles");
@@ -163,8 +161,7 @@ std::shared_ptr<const MaterialFunction> porous_tiles(const JsonView& node, Scene
 
 std::shared_ptr<const MaterialFunction> twisting_curves(const JsonView& node, SceneContext& ctx,
                                                         const ParamBox& domain) {
-  node.expect_object({"kind", "points", "radius", "centre", "turns_per_w", "shift_per_w", "wrap",
-                      "background"});
+  node.expect_object({"kind", "points", "radius", "centre", "turns_per_w", "shift_per_w", "wrap", "background"});
   TwistingCurvesParams p;
   for (const JsonView& e : node.at("points").elements(1)) {
     e.expect_object({"uv", "material"});

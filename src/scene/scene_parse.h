@@ -58,7 +58,7 @@ class SceneContext {
   std::string source_;
   std::filesystem::path base_dir_;
   std::vector<std::string> material_names_;
-  std::map<std::string, Model> models_;  // by resolved path
+  std::map<std::string, Model> models_;                               // by resolved path
   std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text
   std::vector<SceneInputFile> input_files_;
 };

@@ -141,8 +141,10 @@ PrinterProfile parse_printer(const JsonView& node) {
     p.name = "custom";
     for (std::string_view key : {"x_dpi", "y_dpi", "layer_thickness_mm", "max_materials"})
       if (!node.find(key))
-        node.fail(fmt::format("the required key \"{}\" is missing (or give a built-in profile as "
-                              "\"base\")", key));
+        node.fail(
+            fmt::format("the required key \"{}\" is missing (or give a built-in profile as "
+                        "\"base\")",
+                        key));
   }
   if (const auto v = node.find("name")) p.name = v->string();
   if (const auto v = node.find("x_dpi")) p.x_dpi = positive(*v);
@@ -171,8 +173,7 @@ std::array<std::uint8_t, 4> parse_rgba(const JsonView& node) {
     const bool ok_size = s.size() == 7 || s.size() == 9;
     bool ok = ok_size && s[0] == '#';
     for (std::size_t i = 1; ok && i < s.size(); ++i) ok = hex_digit(s[i]) >= 0;
-    if (!ok)
-      node.fail(fmt::format("\"{}\" is not a colour \"#RRGGBB\" or \"#RRGGBBAA\" (hexadecimal)", s));
+    if (!ok) node.fail(fmt::format("\"{}\" is not a colour \"#RRGGBB\" or \"#RRGGBBAA\" (hexadecimal)", s));
     for (std::size_t c = 0; 2 * c + 1 < s.size(); ++c)
       rgba[c] = static_cast<std::uint8_t>(16 * hex_digit(s[2 * c + 1]) + hex_digit(s[2 * c + 2]));
     return rgba;
@@ -207,7 +208,8 @@ std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProf
       for (const LibraryMaterial& m : material_library()) list += fmt::format("{}{}", list.empty() ? "" : ", ", m.name);
       (named_only ? e : e.at("name"))
           .fail(fmt::format("\"{}\" is not a library material, so it needs an \"rgba\" colour; the library "
-                            "materials are {}", def.name, list));
+                            "materials are {}",
+                            def.name, list));
     }
     if (def.name == "void") name.fail("\"void\" is reserved for no material and needs no entry");
     for (std::size_t i = 0; i < materials.size(); ++i)
@@ -218,8 +220,8 @@ std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProf
     materials.push_back(std::move(def));
   }
   if (static_cast<int>(materials.size()) > printer.max_materials)
-    node.fail(fmt::format("the scene declares {} materials; printer \"{}\" takes at most {} per job",
-                          materials.size(), printer.name, printer.max_materials));
+    node.fail(fmt::format("the scene declares {} materials; printer \"{}\" takes at most {} per job", materials.size(),
+                          printer.name, printer.max_materials));
   return materials;
 }
 
@@ -267,20 +269,22 @@ DitherParams parse_dithering(const JsonView& node) {
 void reject_folded(const Volume& volume, const std::string& cell, const JsonView& geometry) {
   const JacobianReport r = check_jacobian(volume);
   if (r.classification == JacobianClass::kFolded)
-    geometry.fail(fmt::format("cell '{}' folds over itself: det J takes both signs ({} of {} samples positive, "
-                              "{} negative, det J in [{:g}, {:g}]), so some points have several (u,v,w)",
-                              cell, r.positive, r.positive + r.negative + r.zero, r.negative, r.min_det, r.max_det));
+    geometry.fail(
+        fmt::format("cell '{}' folds over itself: det J takes both signs ({} of {} samples positive, "
+                    "{} negative, det J in [{:g}, {:g}]), so some points have several (u,v,w)",
+                    cell, r.positive, r.positive + r.negative + r.zero, r.negative, r.min_det, r.max_det));
 }
 
 void add_cell(Scene& scene, detail::SceneContext& ctx, const JsonView& entry, const JsonView& name_field,
               std::string name, Volume volume, const JsonView& material, int scene_volume, Trim trim) {
   for (const Cell& other : scene.cells)
-    if (other.name == name) name_field.fail(fmt::format("the cell name \"{}\" is taken by {} already", name, other.pointer));
+    if (other.name == name)
+      name_field.fail(fmt::format("the cell name \"{}\" is taken by {} already", name, other.pointer));
   auto raw = detail::parse_material(material, ctx, volume.domain());
   MaterialSite site{scene.source, material.pointer(), name, ctx.material_names()};
   auto checked = std::make_shared<CheckedMaterial>(std::move(raw), scene.fraction_policy, std::move(site));
-  scene.cells.push_back(Cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume,
-                             std::move(trim)});
+  scene.cells.push_back(
+      Cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume, std::move(trim)});
 }
 
 void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
@@ -309,8 +313,7 @@ void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) 
     }
     const std::optional<JsonView> placement = c.find("placement");
     for (detail::GeometryPart& part : detail::parse_geometry(c.at("geometry"), ctx)) {
-      Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume)
-                                : std::move(part.volume);
+      Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume) : std::move(part.volume);
       std::string name = part.label.empty() ? base_name : base_name + "/" + part.label;
       if (!detail::construction_allows_fold(c.at("geometry"))) reject_folded(volume, name, c.at("geometry"));
       Trim trim;
@@ -347,15 +350,15 @@ void parse_union(const JsonView& u, detail::SceneContext& ctx, Scene& scene) {
     for (const JsonView& v : e.at("of").elements(1, n)) {
       const int index = detail::volume_ref(v, scene.volumes);
       const auto it = std::find(members.begin(), members.end(), index);
-      if (it == members.end())
-        v.fail(fmt::format("volume \"{}\" is not one of the union's \"volumes\"", v.string()));
+      if (it == members.end()) v.fail(fmt::format("volume \"{}\" is not one of the union's \"volumes\"", v.string()));
       const unsigned bit = 1u << (it - members.begin());
       if (mask & bit) v.fail(fmt::format("volume \"{}\" is listed twice", v.string()));
       mask |= bit;
       names.push_back(v.string());
     }
     if (seen[mask] >= 0)
-      e.at("of").fail(fmt::format("this set of volumes has a region already: {}/{}", regions_node.pointer(), seen[mask]));
+      e.at("of").fail(
+          fmt::format("this set of volumes has a region already: {}/{}", regions_node.pointer(), seen[mask]));
     seen[mask] = static_cast<int>(r);
     int param = detail::volume_ref(e.at("of").elements().front(), scene.volumes);
     if (const auto p = e.find("parametrize")) {
@@ -387,9 +390,13 @@ void parse_union(const JsonView& u, detail::SceneContext& ctx, Scene& scene) {
     if (seen[mask] < 0) {
       std::string set;
       for (std::size_t k = 0; k < n; ++k)
-        if (mask & (1u << k)) set += fmt::format("{}\"{}\"", set.empty() ? "" : ", ", scene.volumes[static_cast<std::size_t>(members[k])].name);
-      regions_node.fail(fmt::format("no region covers the points inside exactly [{}]; every non-empty set of "
-                                    "the union's volumes needs one (a region may have the material \"void\")", set));
+        if (mask & (1u << k))
+          set += fmt::format("{}\"{}\"", set.empty() ? "" : ", ",
+                             scene.volumes[static_cast<std::size_t>(members[k])].name);
+      regions_node.fail(
+          fmt::format("no region covers the points inside exactly [{}]; every non-empty set of "
+                      "the union's volumes needs one (a region may have the material \"void\")",
+                      set));
     }
 }
 
@@ -399,8 +406,8 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   const std::string src = source.string();
   const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
-  top.expect_object({"$schema", "version", "description", "units", "printer", "materials",
-                     "fraction_sums", "dithering", "volumes", "cells", "unions"});
+  top.expect_object({"$schema", "version", "description", "units", "printer", "materials", "fraction_sums", "dithering",
+                     "volumes", "cells", "unions"});
   if (const auto v = top.find("version"); v && v->integer() != 1)
     v->fail(fmt::format("this is scene format version {}; trivox reads version 1", v->integer()));
   if (const auto d = top.find("description")) d->string();

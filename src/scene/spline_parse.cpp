@@ -22,8 +22,10 @@ const Model& SceneContext::model(const JsonView& file_field) {
   if (const auto it = models_.find(key); it != models_.end()) return it->second;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    file_field.fail(fmt::format("cannot read the model file \"{}\": there is no file {} (names "
-                                "are relative to the scene file's folder)", name, key));
+    file_field.fail(
+        fmt::format("cannot read the model file \"{}\": there is no file {} (names "
+                    "are relative to the scene file's folder)",
+                    name, key));
   try {
     // Hashed before it is parsed: a file changed in between makes the job refuse to resume
     // rather than mix two versions.
@@ -61,8 +63,8 @@ TensorSpline parse_inline_spline(const JsonView& node, int param_dim, int point_
     std::string counts;
     for (std::size_t d = 0; d < pd; ++d) counts += fmt::format("{}{}", d ? " x " : "", knots[d].num_ctrl());
     static const char* const kOrder[] = {"", "", "u fastest, then v", "u fastest, then v, then w"};
-    points_node.fail(fmt::format("expected {} = {} control points ({}counts from the knots and orders), got {}",
-                                 counts, total, pd > 1 ? std::string(kOrder[pd]) + "; " : "", points.size()));
+    points_node.fail(fmt::format("expected {} = {} control points ({}counts from the knots and orders), got {}", counts,
+                                 total, pd > 1 ? std::string(kOrder[pd]) + "; " : "", points.size()));
   }
   const auto dim = static_cast<std::size_t>(point_dim);
   std::vector<double> coords;
@@ -103,21 +105,20 @@ std::vector<const Patch*> trivariates(const Model& model) {
 }
 
 std::string patch_description(const Patch& p) {
-  return p.source_line > 0 ? fmt::format("\"{}\" (line {})", p.name, p.source_line)
-                           : fmt::format("\"{}\"", p.name);
+  return p.source_line > 0 ? fmt::format("\"{}\" (line {})", p.name, p.source_line) : fmt::format("\"{}\"", p.name);
 }
 
 // The patch a "patch" field selects among `vols` (the only one when the field is absent).
-std::size_t select_patch(const JsonView& node, const std::vector<const Patch*>& vols,
-                         bool allow_all) {
+std::size_t select_patch(const JsonView& node, const std::vector<const Patch*>& vols, bool allow_all) {
   const std::string& file = node.at("file").string();
   if (vols.empty()) node.at("file").fail(fmt::format("the file \"{}\" holds no trivariate", file));
   const auto patch = node.find("patch");
   if (!patch) {
     if (vols.size() != 1)
-      node.fail(fmt::format("the file \"{}\" holds {} trivariates; say which with \"patch\" (0 to "
-                            "{}{})", file, vols.size(), vols.size() - 1,
-                            allow_all ? ", or \"all\"" : ""));
+      node.fail(
+          fmt::format("the file \"{}\" holds {} trivariates; say which with \"patch\" (0 to "
+                      "{}{})",
+                      file, vols.size(), vols.size() - 1, allow_all ? ", or \"all\"" : ""));
     return 0;
   }
   return static_cast<std::size_t>(patch->integer_in(0, static_cast<int>(vols.size()) - 1));
@@ -125,8 +126,10 @@ std::size_t select_patch(const JsonView& node, const std::vector<const Patch*>& 
 
 Volume make_volume(const JsonView& where, const TensorSpline& spline, const std::string& what) {
   if (spline.point_dim() != 3)
-    where.fail(fmt::format("{} has {} coordinate(s) per control point; geometry needs 3 (x, y, z "
-                           "in mm)", what, spline.point_dim()));
+    where.fail(
+        fmt::format("{} has {} coordinate(s) per control point; geometry needs 3 (x, y, z "
+                    "in mm)",
+                    what, spline.point_dim()));
   try {
     return Volume(spline);
   } catch (const ModelError& e) {
@@ -154,11 +157,12 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
   if (patch && patch->is_string()) {
     if (patch->string() != "all")
       patch->fail(fmt::format("expected a patch index or \"all\", got \"{}\"", patch->string()));
-    if (vols.empty()) node.at("file").fail(fmt::format("the file \"{}\" holds no trivariate", node.at("file").string()));
+    if (vols.empty())
+      node.at("file").fail(fmt::format("the file \"{}\" holds no trivariate", node.at("file").string()));
     for (std::size_t i = 0; i < vols.size(); ++i)
-      parts.push_back({make_volume(*patch, vols[i]->spline,
-                                   fmt::format("trivariate {} {}", i, patch_description(*vols[i]))),
-                       std::to_string(i)});
+      parts.push_back(
+          {make_volume(*patch, vols[i]->spline, fmt::format("trivariate {} {}", i, patch_description(*vols[i]))),
+           std::to_string(i)});
     return parts;
   }
   const std::size_t i = select_patch(node, vols, true);
@@ -176,8 +180,10 @@ std::filesystem::path SceneContext::existing_file(const JsonView& file_field, st
   path = path.lexically_normal();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))
-    file_field.fail(fmt::format("cannot read the {} \"{}\": there is no file {} (names are relative to the "
-                                "scene file's folder)", what, name, path.string()));
+    file_field.fail(
+        fmt::format("cannot read the {} \"{}\": there is no file {} (names are relative to the "
+                    "scene file's folder)",
+                    what, name, path.string()));
   return path;
 }
 
@@ -197,8 +203,7 @@ TensorSpline parse_field(const JsonView& node, SceneContext& ctx, int point_dim)
   const TensorSpline& spline = vols[i]->spline;
   if (point_dim != kAnyPointDim && spline.point_dim() != point_dim)
     node.fail(fmt::format("trivariate {} {} of \"{}\" has {} component(s); this field needs {}", i,
-                          patch_description(*vols[i]), node.at("file").string(), spline.point_dim(),
-                          point_dim));
+                          patch_description(*vols[i]), node.at("file").string(), spline.point_dim(), point_dim));
   return spline;
 }
 
@@ -234,15 +239,17 @@ Affine parse_placement(const JsonView& node) {
   Affine f;
   if (const auto matrix = node.find("matrix")) {
     if (node.json().size() > 1)
-      node.fail("\"matrix\" gives the whole placement; leave out \"translate\", \"rotate_deg\" "
-                "and \"scale\" beside it");
+      node.fail(
+          "\"matrix\" gives the whole placement; leave out \"translate\", \"rotate_deg\" "
+          "and \"scale\" beside it");
     const std::vector<JsonView> rows = matrix->elements(4, 4);
     for (std::size_t i = 0; i < 4; ++i) {
       const std::vector<double> row = rows[i].numbers(4, 4);
       if (i == 3) {
         if (row[0] != 0 || row[1] != 0 || row[2] != 0 || row[3] != 1)
-          rows[i].fail("the last row must be [0, 0, 0, 1]: placements are affine (projective "
-                       "maps would not keep the volume a spline of the same kind)");
+          rows[i].fail(
+              "the last row must be [0, 0, 0, 1]: placements are affine (projective "
+              "maps would not keep the volume a spline of the same kind)");
         break;
       }
       for (std::size_t j = 0; j < 3; ++j) f.a.m[i][j] = row[j];
@@ -251,8 +258,7 @@ Affine parse_placement(const JsonView& node) {
   } else {
     Mat3 s{{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
     if (const auto scale = node.find("scale")) {
-      const std::vector<double> k = scale->is_number() ? std::vector<double>(3, scale->number())
-                                                        : scale->numbers(3, 3);
+      const std::vector<double> k = scale->is_number() ? std::vector<double>(3, scale->number()) : scale->numbers(3, 3);
       for (std::size_t d = 0; d < 3; ++d) s.m[d][d] = k[d];
     }
     Mat3 r{{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}};
@@ -270,8 +276,10 @@ Affine parse_placement(const JsonView& node) {
   const double det = f.a.determinant();
   const double size = max_abs(f.a.column(0)) + max_abs(f.a.column(1)) + max_abs(f.a.column(2));
   if (!(std::abs(det) > 1e-12 * size * size * size))
-    node.fail(fmt::format("the placement is singular (determinant {}): it would flatten the "
-                          "volume", det));
+    node.fail(
+        fmt::format("the placement is singular (determinant {}): it would flatten the "
+                    "volume",
+                    det));
   return f;
 }
 

@@ -91,7 +91,8 @@ std::shared_ptr<const VolumeImage> SceneContext::volume_image(const JsonView& no
     if (const auto t = node.find("type")) layout.type = raw_type(*t);
     if (const auto b = node.find("byte_order")) {
       const std::string& order = b->string();
-      if (order != "little" && order != "big") b->fail(fmt::format("expected \"little\" or \"big\", got \"{}\"", order));
+      if (order != "little" && order != "big")
+        b->fail(fmt::format("expected \"little\" or \"big\", got \"{}\"", order));
       layout.big_endian = order == "big";
     }
     try {
@@ -157,7 +158,8 @@ std::shared_ptr<const MaterialFunction> parse_texture(const JsonView& node, Scen
   for (const JsonView& c : channels.elements(1, static_cast<std::size_t>(image->channels))) {
     const int j = ctx.material_ref(c);
     for (std::size_t k = 0; k < materials.size(); ++k)
-      if (j != kVoidMaterial && materials[k] == j) c.fail(fmt::format("material \"{}\" is channel {} already", c.string(), k));
+      if (j != kVoidMaterial && materials[k] == j)
+        c.fail(fmt::format("material \"{}\" is channel {} already", c.string(), k));
     materials.push_back(j);
   }
   return std::make_shared<TextureMaterial>(std::move(texture), std::move(materials), ctx.num_materials(), cell_domain);

@@ -24,16 +24,19 @@ std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx) 
         name.fail(fmt::format("the volume name \"{}\" is taken by {} already", name.string(), other.pointer));
     std::vector<GeometryPart> parts = parse_geometry(e.at("geometry"), ctx);
     if (parts.size() != 1)
-      e.at("geometry").fail(fmt::format("a named volume is one trivariate; this geometry gives {} (name one "
-                                        "\"patch\")", parts.size()));
+      e.at("geometry")
+          .fail(fmt::format("a named volume is one trivariate; this geometry gives {} (name one "
+                            "\"patch\")",
+                            parts.size()));
     Volume v = std::move(parts.front().volume);
     if (const auto p = e.find("placement")) v = parse_and_apply_placement(*p, v);
     if (!construction_allows_fold(e.at("geometry"))) {
       const JacobianReport r = check_jacobian(v);
       if (r.classification == JacobianClass::kFolded)
-        e.at("geometry").fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points "
-                                          "have several (u,v,w) and inside or outside of it is ambiguous",
-                                          name.string()));
+        e.at("geometry")
+            .fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points "
+                              "have several (u,v,w) and inside or outside of it is ambiguous",
+                              name.string()));
     }
     out.push_back(SceneVolume{name.string(), e.pointer(), std::move(v)});
   }
@@ -56,12 +59,14 @@ namespace {
 // {"file", "patch"}), with an optional "placement"; the shell must be closed.
 std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext& ctx, std::string_view what) {
   if (!node.is_object())
-    node.fail(fmt::format("expected {{\"file\": ...}} or {{\"surfaces\": [...]}}, got {}", JsonView::describe(node.json())));
+    node.fail(
+        fmt::format("expected {{\"file\": ...}} or {{\"surfaces\": [...]}}, got {}", JsonView::describe(node.json())));
   node.expect_object({"file", "surfaces", "placement"});
   auto shell = std::make_shared<TrimShell>();
   const auto file = node.find("file");
   const auto list = node.find("surfaces");
-  if (file.has_value() == list.has_value()) node.fail("give the shell's surfaces either as \"file\" or as \"surfaces\"");
+  if (file.has_value() == list.has_value())
+    node.fail("give the shell's surfaces either as \"file\" or as \"surfaces\"");
   if (file) {
     shell->name = fmt::format("\"{}\"", file->string());
     const Model& model = ctx.model(*file);
@@ -74,7 +79,8 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
           const TrimmedModel::Surface& srf = m.surfaces[i];
           TrimmedSurface t{fmt::format("MODEL '{}' (line {}), trimmed surface {} (line {})", m.name, m.source_line,
                                        i + 1, srf.source_line),
-                           model.patches[static_cast<std::size_t>(srf.patch)].spline, {}};
+                           model.patches[static_cast<std::size_t>(srf.patch)].spline,
+                           {}};
           for (const auto& loop : srf.loops) {
             std::vector<TrimmedSurface::Piece> pieces;
             for (int ref : loop) {
@@ -83,8 +89,10 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
               const auto side = static_cast<std::size_t>(
                   std::find(seg.surfaces.begin(), seg.surfaces.end(), static_cast<int>(i)) - seg.surfaces.begin());
               if (side == seg.surfaces.size())
-                file->fail(fmt::format("{}: a loop uses segment {} (line {}), which has no curve in this surface's "
-                                       "(u, v)", t.name, g + 1, seg.source_line));
+                file->fail(
+                    fmt::format("{}: a loop uses segment {} (line {}), which has no curve in this surface's "
+                                "(u, v)",
+                                t.name, g + 1, seg.source_line));
               pieces.push_back({seg.curves[side], ref < 0, segment_base + static_cast<int>(g)});
             }
             t.loops.push_back(std::move(pieces));
@@ -114,7 +122,8 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
       (file ? *file : node)
           .fail(fmt::format("the {} shell {} is not closed: {} edges of its tessellation border only one "
                             "surface (a gap between surfaces, or a surface missing), so inside and outside "
-                            "are undefined", what, shell->name, mesh.open_edges()));
+                            "are undefined",
+                            what, shell->name, mesh.open_edges()));
   } catch (const ModelError& e) {
     node.fail(e.what());
   }

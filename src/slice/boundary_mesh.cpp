@@ -35,7 +35,8 @@ double face_deviation(const Volume& v, int fixed, double at, int a, const std::v
   grid_row(tb[0], prev);
   for (std::size_t j = 1; j < tb.size(); ++j) {
     grid_row(tb[j], cur);
-    for (std::size_t i = 1; i < n; ++i) centre_params[i - 1] = param(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
+    for (std::size_t i = 1; i < n; ++i)
+      centre_params[i - 1] = param(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
     v.evaluate_many(centre_params, centres);
     for (std::size_t i = 1; i < n; ++i) {
       const Vec3 bilinear = 0.25 * (prev[i - 1] + prev[i] + cur[i - 1] + cur[i]);
@@ -56,16 +57,19 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   const ParamBox& dom = v.domain();
   // Start from a few samples per polynomial piece and double where a face is too coarse.
   for (int d = 0; d < 3; ++d)
-    n_[static_cast<std::size_t>(d)] = std::max(3, 2 * (static_cast<int>(v.spline().knots(d).interior_breaks().size()) + 1) + 1);
+    n_[static_cast<std::size_t>(d)] =
+        std::max(3, 2 * (static_cast<int>(v.spline().knots(d).interior_breaks().size()) + 1) + 1);
   constexpr int kMaxSamples = 4096;
   for (int round = 0; round < 12; ++round) {
     std::array<std::vector<double>, 3> t;
-    for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+    for (int d = 0; d < 3; ++d)
+      t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
     std::array<bool, 3> refine{false, false, false};
     for (int fixed = 0; fixed < 3; ++fixed) {
       const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
       for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
-        if (face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]) > tolerance_mm) {
+        if (face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]) >
+            tolerance_mm) {
           refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
         }
       }
@@ -83,7 +87,8 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   // corners reuse them: a vertex's number is kept in the first face (in the loop's order) that
   // holds it, in a dense table of that face's grid.
   std::array<std::vector<double>, 3> t;
-  for (int d = 0; d < 3; ++d) t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+  for (int d = 0; d < 3; ++d)
+    t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
   struct FaceTable {
     int fixed, side, a, b;
     std::vector<int> id;  // per grid point of the face, index i_a + n_a * i_b; -1 = none yet

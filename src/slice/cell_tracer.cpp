@@ -65,8 +65,10 @@ void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::
   r.done = false;
   // Empty spans (first > last) hold no candidate.
   while (r.span < spans.size() && spans[r.span].first > spans[r.span].second) ++r.span;
-  if (r.span == spans.size()) r.done = true;
-  else r.col = spans[r.span].first;
+  if (r.span == spans.size())
+    r.done = true;
+  else
+    r.col = spans[r.span].first;
   std::fill(r.ok.begin(), r.ok.end(), 0);
   r.jacobian_until = 0;
   r.check_pending = false;
@@ -86,8 +88,10 @@ inline void CellTracer::advance(Row& r) {
   }
   do ++r.span;
   while (r.span < spans.size() && spans[r.span].first > spans[r.span].second);
-  if (r.span == spans.size()) r.done = true;
-  else r.col = spans[r.span].first;
+  if (r.span == spans.size())
+    r.done = true;
+  else
+    r.col = spans[r.span].first;
 }
 
 inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {

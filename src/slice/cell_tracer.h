@@ -32,15 +32,15 @@
 namespace trivox::detail {
 
 struct TraceCounters {
-  std::int64_t candidates = 0;     // pixels examined
-  std::int64_t inside = 0;         // pixels whose inverse lies in the domain
-  std::int64_t global_calls = 0;   // global solves
+  std::int64_t candidates = 0;       // pixels examined
+  std::int64_t inside = 0;           // pixels whose inverse lies in the domain
+  std::int64_t global_calls = 0;     // global solves
   std::int64_t global_unseeded = 0;  // of which for a pixel with no solved neighbour to start from
-  std::int64_t newton_evals = 0;   // evaluations of V (with or without J) by the tracer and Newton
-  std::int64_t folded = 0;         // pixels with several regular preimages (fold)
-  std::int64_t unresolved = 0;     // global solver ran out of budget
-  std::int64_t guesses = 0;        // extrapolated guesses checked by a value-only evaluation
-  std::int64_t guess_misses = 0;   // of which missed the tolerance
+  std::int64_t newton_evals = 0;     // evaluations of V (with or without J) by the tracer and Newton
+  std::int64_t folded = 0;           // pixels with several regular preimages (fold)
+  std::int64_t unresolved = 0;       // global solver ran out of budget
+  std::int64_t guesses = 0;          // extrapolated guesses checked by a value-only evaluation
+  std::int64_t guess_misses = 0;     // of which missed the tolerance
   std::int64_t jacobian_steps = 0;   // pixels evaluated with their Jacobian in a batch
   std::int64_t slow_path = 0;        // pixels settled by Newton from each neighbour in turn, then the global solver
 
@@ -85,7 +85,7 @@ class CellTracer {
     double y_mm = 0;
     const std::vector<std::pair<int, int>>* spans = nullptr;
     std::size_t span = 0;
-    int col = 0;        // the next candidate
+    int col = 0;  // the next candidate
     bool done = true;
     std::vector<Vec3> uvw;             // per column: the seed kept for later pixels
     std::vector<std::uint8_t> ok;      // per column: solved
@@ -145,7 +145,7 @@ class CellTracer {
   int rows_in_flight_;
   double z_mm_ = 0;
   const SliceLayout* layout_ = nullptr;  // during trace_layer
-  std::vector<Row> ring_;  // rows_in_flight + 1 slots: the rows in flight and the one above them
+  std::vector<Row> ring_;                // rows_in_flight + 1 slots: the rows in flight and the one above them
   TraceCounters counters_;
 };
 

@@ -15,13 +15,13 @@
 #include <tbb/task_arena.h>
 
 #include "output/stack_writers.h"
-#include "tsan_handoff.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
 #include "trivox/version.h"
+#include "tsan_handoff.h"
 
 namespace trivox {
 
@@ -45,7 +45,9 @@ LayerRange layer_range(const SliceLayout& L, const JobParams& params) {
   return r;
 }
 
-std::string rgba_text(const std::array<std::uint8_t, 4>& c) { return fmt::format("{},{},{},{}", c[0], c[1], c[2], c[3]); }
+std::string rgba_text(const std::array<std::uint8_t, 4>& c) {
+  return fmt::format("{},{},{},{}", c[0], c[1], c[2], c[3]);
+}
 
 // A file name relative to the output folder with '/' separators on every system.
 std::string relative_name(const std::string& name) { return std::filesystem::path(name).generic_string(); }
@@ -83,7 +85,8 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
   m.inputs.push_back({"scene", scene.source, scene.source_sha256});
   for (const SceneInputFile& f : scene.input_files) m.inputs.push_back({"model", f.name, f.sha256});
   std::vector<std::string> materials;
-  for (const MaterialDef& mat : scene.materials) materials.push_back(fmt::format("{}={}", mat.name, rgba_text(mat.rgba)));
+  for (const MaterialDef& mat : scene.materials)
+    materials.push_back(fmt::format("{}={}", mat.name, rgba_text(mat.rgba)));
   const auto num = [](double x) { return fmt::format("{}", x); };
   m.settings = {
       {"printer", scene.printer.name},
@@ -102,8 +105,8 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"png_filter", std::string(to_string(params.png.filter))},
       {"png_strategy", std::string(to_string(params.png.strategy))},
       {"tracing", std::string(to_string(sp.tracing))},
-      {"newton", fmt::format("tol={} iter={} slack={}", num(sp.newton.residual_tolerance_model), sp.newton.max_iterations,
-                             num(sp.newton.outside_slack_relative))},
+      {"newton", fmt::format("tol={} iter={} slack={}", num(sp.newton.residual_tolerance_model),
+                             sp.newton.max_iterations, num(sp.newton.outside_slack_relative))},
       {"global", fmt::format("tol={} iter={} slack={} boxes={} same={} singular={}",
                              num(sp.global.newton.residual_tolerance_model), sp.global.newton.max_iterations,
                              num(sp.global.newton.outside_slack_relative), sp.global.max_boxes,
@@ -124,7 +127,8 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
-    throw Error(fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
+    throw Error(
+        fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
   const LayerRange range = layer_range(slicer.layout(), params);
   for (int layer : params.preview_layers)
     if (layer < range.first || layer > range.last)
@@ -151,8 +155,9 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     const JobManifest previous = read_manifest(manifest_path);
     const std::vector<std::string> diffs = manifest_differences(previous, manifest);
     if (!diffs.empty())
-      throw Error(fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
-                              manifest_path.string(), fmt::join(diffs, "; ")));
+      throw Error(
+          fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
+                      manifest_path.string(), fmt::join(diffs, "; ")));
     remove_stale_temporaries(params.output_dir);
     manifest.files = intact_files(params.output_dir, previous);
   }
@@ -192,10 +197,12 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     for (int layer : params.preview_layers) chosen.emplace_back(layer - range.first, layer + 1);
     writers.push_back(detail::make_layer_preview_writer(ctx, std::move(chosen)));
   }
-  const bool any_stack = std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
+  const bool any_stack =
+      std::any_of(writers.begin(), writers.end(), [](const auto& w) { return w->needs_whole_stack(); });
   if (any_stack && params.shard_count > 1)
-    throw Error("the stack formats (preview, tiff, vdb, gcvf) need every layer of the job in one run: slice them "
-                "without --shard");
+    throw Error(
+        "the stack formats (preview, tiff, vdb, gcvf) need every layer of the job in one run: slice them "
+        "without --shard");
   // Stack writers see every model layer; those a resumed job keeps are sliced again for them
   // (the same labels, since a layer depends only on the scene, settings and its index).
   std::vector<int> refeed;
@@ -248,43 +255,44 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     }
   };
 
-  stats.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  stats.threads =
+      params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   try {
     tbb::task_arena arena(stats.threads);
     // One layer per task: layers are independent, so any schedule gives the same files.
     // parallel_for keeps a reference to slice_one, so it is made before the tasks are handed
     // their data (tsan_handoff.h).
     auto slice_one = [&](std::size_t t) {
-        detail::TsanHandoff::task_receives();
-        struct PublishAtEnd {
-          ~PublishAtEnd() { detail::TsanHandoff::task_publishes(); }
-        } publish_at_end;
-        if (stop_requested()) return;
-        if (t >= pending.size()) {
-          const int index = refeed[t - pending.size()];
-          const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
-                                                        : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
-          for (const auto& w : writers)
-            if (w->needs_whole_stack()) w->write_layer(index, labels);
-          return;
+      detail::TsanHandoff::task_receives();
+      struct PublishAtEnd {
+        ~PublishAtEnd() { detail::TsanHandoff::task_publishes(); }
+      } publish_at_end;
+      if (stop_requested()) return;
+      if (t >= pending.size()) {
+        const int index = refeed[t - pending.size()];
+        const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
+                                                      : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
+        for (const auto& w : writers)
+          if (w->needs_whole_stack()) w->write_layer(index, labels);
+        return;
+      }
+      const int index = pending[t];
+      std::vector<std::string> written;
+      if (index < range.count) {
+        LayerResult r = slicer.slice_layer(range.first + index);
+        for (const auto& w : writers) {
+          auto files = w->write_layer(index, r.labels);
+          written.insert(written.end(), files.begin(), files.end());
         }
-        const int index = pending[t];
-        std::vector<std::string> written;
-        if (index < range.count) {
-          LayerResult r = slicer.slice_layer(range.first + index);
-          for (const auto& w : writers) {
-            auto files = w->write_layer(index, r.labels);
-            written.insert(written.end(), files.begin(), files.end());
-          }
-          record(index, std::move(written), std::move(r.stats));
-        } else {
-          const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
-          for (const auto& w : writers) {
-            auto files = w->write_layer(index, empty);
-            written.insert(written.end(), files.begin(), files.end());
-          }
-          record(index, std::move(written), std::nullopt);
+        record(index, std::move(written), std::move(r.stats));
+      } else {
+        const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
+        for (const auto& w : writers) {
+          auto files = w->write_layer(index, empty);
+          written.insert(written.end(), files.begin(), files.end());
         }
+        record(index, std::move(written), std::nullopt);
+      }
     };
     auto slice_all = [&] { tbb::parallel_for(std::size_t{0}, pending.size() + refeed.size(), slice_one); };
     detail::TsanHandoff::caller_publishes();
@@ -296,7 +304,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   }
   manifest.sort_files();
   std::sort(stats.files.begin(), stats.files.end());
-  std::sort(stats.layers.begin(), stats.layers.end(), [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
+  std::sort(stats.layers.begin(), stats.layers.end(),
+            [](const LayerStats& a, const LayerStats& b) { return a.layer < b.layer; });
   stats.interrupted = stop_requested() && (done < static_cast<int>(pending.size()) || any_stack);
   if (!stats.interrupted) {
     // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
@@ -342,13 +351,29 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   total.voxels_per_material.assign(static_cast<std::size_t>(slicer.scene().num_materials()), 0);
   total.pixels_per_cell.assign(slicer.scene().cells.size(), 0);
   for (const LayerStats& s : stats.layers) {
-    const double share = s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
-    layers.push_back({{"layer", s.layer}, {"z_mm", s.z_mm}, {"seconds", s.seconds}, {"seconds_inverse", s.seconds_inverse}, {"seconds_material", s.seconds_material}, {"seconds_dither", s.seconds_dither}, {"pixels_total", s.pixels_total},
-                      {"pixels_inside", s.pixels_inside}, {"candidates", s.candidates}, {"global_calls", s.global_calls},
-                      {"global_share_percent", share}, {"global_unseeded", s.global_unseeded}, {"newton_evals", s.newton_evals},
-                      {"guesses", s.guesses}, {"guess_misses", s.guess_misses}, {"jacobian_steps", s.jacobian_steps},
-                      {"slow_path_pixels", s.slow_path_pixels}, {"folded_pixels", s.folded_pixels}, {"unresolved_pixels", s.unresolved_pixels},
-                      {"voxels_per_material", s.voxels_per_material}, {"pixels_per_cell", s.pixels_per_cell}});
+    const double share =
+        s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
+    layers.push_back({{"layer", s.layer},
+                      {"z_mm", s.z_mm},
+                      {"seconds", s.seconds},
+                      {"seconds_inverse", s.seconds_inverse},
+                      {"seconds_material", s.seconds_material},
+                      {"seconds_dither", s.seconds_dither},
+                      {"pixels_total", s.pixels_total},
+                      {"pixels_inside", s.pixels_inside},
+                      {"candidates", s.candidates},
+                      {"global_calls", s.global_calls},
+                      {"global_share_percent", share},
+                      {"global_unseeded", s.global_unseeded},
+                      {"newton_evals", s.newton_evals},
+                      {"guesses", s.guesses},
+                      {"guess_misses", s.guess_misses},
+                      {"jacobian_steps", s.jacobian_steps},
+                      {"slow_path_pixels", s.slow_path_pixels},
+                      {"folded_pixels", s.folded_pixels},
+                      {"unresolved_pixels", s.unresolved_pixels},
+                      {"voxels_per_material", s.voxels_per_material},
+                      {"pixels_per_cell", s.pixels_per_cell}});
     total.pixels_total += s.pixels_total;
     total.pixels_inside += s.pixels_inside;
     total.candidates += s.candidates;
@@ -373,32 +398,52 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   json cells = json::array();
   for (const Cell& c : slicer.scene().cells) cells.push_back(c.name);
   const double n = static_cast<double>(std::max<std::size_t>(1, stats.layers.size()));
-  json doc = {
-      {"scene", slicer.scene().source},
-      {"printer", {{"name", slicer.scene().printer.name}, {"x_dpi", slicer.scene().printer.x_dpi},
-                   {"y_dpi", slicer.scene().printer.y_dpi}, {"layer_mm", slicer.scene().printer.layer_thickness_mm}}},
-      {"tracing", std::string(to_string(slicer.params().tracing))},
-      {"dithering", {{"method", std::string(dither_method_name(slicer.dither_params()))},
-                     {"serpentine", slicer.dither_params().serpentine},
-                     {"vary_by_layer", slicer.dither_params().vary_by_layer},
-                     {"skin_voxels", slicer.dither_params().skin_voxels}}},
-      {"bitmap", {{"width_px", L.width_px}, {"height_px", L.height_px}, {"x0_mm", L.x0_mm}, {"y_top_mm", L.y_top_mm},
-                  {"z0_mm", L.z0_mm}}},
-      {"materials", materials},
-      {"cells", cells},
-      {"total",
-       {{"layers_sliced", stats.layers.size()}, {"layers_padded", stats.padded_layers},
-        {"layers_kept", stats.layers_kept}, {"interrupted", stats.interrupted}, {"threads", stats.threads},
-        {"seconds", stats.seconds}, {"seconds_per_layer_mean", time_sum / n},
-        {"pixels_total", total.pixels_total}, {"pixels_inside", total.pixels_inside},
-        {"candidates", total.candidates}, {"global_calls", total.global_calls},
-        {"global_share_percent", total.pixels_inside > 0 ? 100.0 * static_cast<double>(total.global_calls) / static_cast<double>(total.pixels_inside) : 0.0},
-        {"global_unseeded", total.global_unseeded}, {"newton_evals", total.newton_evals},
-        {"guesses", total.guesses}, {"guess_misses", total.guess_misses}, {"jacobian_steps", total.jacobian_steps},
-        {"slow_path_pixels", total.slow_path_pixels}, {"folded_pixels", total.folded_pixels},
-        {"unresolved_pixels", total.unresolved_pixels}, {"voxels_per_material", total.voxels_per_material},
-        {"pixels_per_cell", total.pixels_per_cell}}},
-      {"layers", layers}};
+  json doc = {{"scene", slicer.scene().source},
+              {"printer",
+               {{"name", slicer.scene().printer.name},
+                {"x_dpi", slicer.scene().printer.x_dpi},
+                {"y_dpi", slicer.scene().printer.y_dpi},
+                {"layer_mm", slicer.scene().printer.layer_thickness_mm}}},
+              {"tracing", std::string(to_string(slicer.params().tracing))},
+              {"dithering",
+               {{"method", std::string(dither_method_name(slicer.dither_params()))},
+                {"serpentine", slicer.dither_params().serpentine},
+                {"vary_by_layer", slicer.dither_params().vary_by_layer},
+                {"skin_voxels", slicer.dither_params().skin_voxels}}},
+              {"bitmap",
+               {{"width_px", L.width_px},
+                {"height_px", L.height_px},
+                {"x0_mm", L.x0_mm},
+                {"y_top_mm", L.y_top_mm},
+                {"z0_mm", L.z0_mm}}},
+              {"materials", materials},
+              {"cells", cells},
+              {"total",
+               {{"layers_sliced", stats.layers.size()},
+                {"layers_padded", stats.padded_layers},
+                {"layers_kept", stats.layers_kept},
+                {"interrupted", stats.interrupted},
+                {"threads", stats.threads},
+                {"seconds", stats.seconds},
+                {"seconds_per_layer_mean", time_sum / n},
+                {"pixels_total", total.pixels_total},
+                {"pixels_inside", total.pixels_inside},
+                {"candidates", total.candidates},
+                {"global_calls", total.global_calls},
+                {"global_share_percent", total.pixels_inside > 0 ? 100.0 * static_cast<double>(total.global_calls) /
+                                                                       static_cast<double>(total.pixels_inside)
+                                                                 : 0.0},
+                {"global_unseeded", total.global_unseeded},
+                {"newton_evals", total.newton_evals},
+                {"guesses", total.guesses},
+                {"guess_misses", total.guess_misses},
+                {"jacobian_steps", total.jacobian_steps},
+                {"slow_path_pixels", total.slow_path_pixels},
+                {"folded_pixels", total.folded_pixels},
+                {"unresolved_pixels", total.unresolved_pixels},
+                {"voxels_per_material", total.voxels_per_material},
+                {"pixels_per_cell", total.pixels_per_cell}}},
+              {"layers", layers}};
   write_file_atomic(path, doc.dump(1) + "\n");
 }
 

@@ -53,7 +53,8 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   e.padded_layers = m.total_layers - e.model_layers;
   int shard_model = 0, shard_padded = 0;
   for (int index = 0; index < m.total_layers; ++index)
-    if (shard_has_layer(index, params.shard_index, params.shard_count)) (index < e.model_layers ? shard_model : shard_padded)++;
+    if (shard_has_layer(index, params.shard_index, params.shard_count))
+      (index < e.model_layers ? shard_model : shard_padded)++;
   e.job_layers = shard_model + shard_padded;
   e.width_px = L.width_px;
   e.height_px = L.height_px;
@@ -77,7 +78,9 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   } cleanup{scratch};
   std::error_code ec;
   std::filesystem::create_directories(scratch, ec);
-  if (ec) throw IoError(fmt::format("{}: cannot create a scratch folder for the estimate: {}", scratch.string(), ec.message()));
+  if (ec)
+    throw IoError(
+        fmt::format("{}: cannot create a scratch folder for the estimate: {}", scratch.string(), ec.message()));
   OutputContext ctx;
   ctx.dir = scratch;
   for (const MaterialDef& mat : slicer.scene().materials) {
@@ -145,7 +148,8 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   const std::uint64_t files = static_cast<std::uint64_t>(e.files_per_layer) * static_cast<std::uint64_t>(e.job_layers) +
                               static_cast<std::uint64_t>(e.whole_job_files);
   e.output_bytes = sample_bytes / static_cast<std::uint64_t>(samples) * static_cast<std::uint64_t>(shard_model) +
-                   padding_bytes * static_cast<std::uint64_t>(shard_padded) + whole_job_bytes + kManifestBytesPerFile * files;
+                   padding_bytes * static_cast<std::uint64_t>(shard_padded) + whole_job_bytes +
+                   kManifestBytesPerFile * files;
   e.seconds = per_layer * std::ceil(static_cast<double>(shard_model) / e.threads);
   return e;
 }
@@ -190,18 +194,20 @@ void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional
       std::string what = fmt::format("{} layers x {} files", e.job_layers, e.files_per_layer);
       if (e.whole_job_files > 0) what += fmt::format(", {} files of the whole job", e.whole_job_files);
       if (e.scratch_bytes > 0) what += fmt::format(", {} of spool files while it runs", byte_text(e.scratch_bytes));
-      throw Error(fmt::format("{}: the job needs about {} of disk ({}) but only {} is free there; "
-                              "free some space, choose another folder, or override with --no-checks",
-                              params.output_dir.string(), byte_text(needed), what, byte_text(*free_disk)));
+      throw Error(
+          fmt::format("{}: the job needs about {} of disk ({}) but only {} is free there; "
+                      "free some space, choose another folder, or override with --no-checks",
+                      params.output_dir.string(), byte_text(needed), what, byte_text(*free_disk)));
     }
   }
   if (memory_limit && e.peak_memory_bytes > *memory_limit)
-    throw Error(fmt::format("the job needs about {} of memory with {} ({} x {} px layers{}) but the limit is {}; "
-                            "use fewer threads (-j), raise --memory-limit, or override with --no-checks",
-                            byte_text(e.peak_memory_bytes), thread_text(e.threads), e.width_px, e.height_px,
-                            e.stack_memory_bytes > 0 ? fmt::format(", {} of it for the stack outputs", byte_text(e.stack_memory_bytes))
-                                                     : std::string(),
-                            byte_text(*memory_limit)));
+    throw Error(fmt::format(
+        "the job needs about {} of memory with {} ({} x {} px layers{}) but the limit is {}; "
+        "use fewer threads (-j), raise --memory-limit, or override with --no-checks",
+        byte_text(e.peak_memory_bytes), thread_text(e.threads), e.width_px, e.height_px,
+        e.stack_memory_bytes > 0 ? fmt::format(", {} of it for the stack outputs", byte_text(e.stack_memory_bytes))
+                                 : std::string(),
+        byte_text(*memory_limit)));
 }
 
 std::string byte_text(std::uint64_t bytes) {

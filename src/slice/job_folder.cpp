@@ -53,12 +53,14 @@ std::map<int, std::filesystem::path> shard_manifests(const std::filesystem::path
   std::map<int, std::filesystem::path> found;
   *count = 0;
   std::error_code ec;
-  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::end(it); it.increment(ec)) {
+  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::end(it);
+       it.increment(ec)) {
     const auto shard = shard_of_name(it->path().filename().string());
     if (!shard) continue;
     const int n = shard->second;
     if (*count != 0 && n != *count)
-      throw Error(fmt::format("{}: shard manifests of {} and of {} shards are mixed in one folder", dir.string(), *count, n));
+      throw Error(
+          fmt::format("{}: shard manifests of {} and of {} shards are mixed in one folder", dir.string(), *count, n));
     *count = n;
     found[shard->first] = it->path();
   }
@@ -73,7 +75,8 @@ std::string file_problem(const std::filesystem::path& dir, const ManifestFile& f
   if (!std::filesystem::is_regular_file(path, ec)) return fmt::format("{}: missing", path.string());
   const FileDigest d = sha256_file(path);
   if (d.bytes != f.bytes) return fmt::format("{}: {} bytes, the manifest says {}", path.string(), d.bytes, f.bytes);
-  if (d.sha256 != f.sha256) return fmt::format("{}: SHA-256 {} differs from the manifest's {}", path.string(), d.sha256, f.sha256);
+  if (d.sha256 != f.sha256)
+    return fmt::format("{}: SHA-256 {} differs from the manifest's {}", path.string(), d.sha256, f.sha256);
   return {};
 }
 
@@ -83,7 +86,8 @@ std::pair<int, int> bitmap_size(const JobManifest& m) {
     if (key == "bitmap_px") {
       const std::size_t x = value.find('x');
       if (x == std::string::npos) break;
-      const auto w = small_number(std::string_view(value).substr(0, x)), h = small_number(std::string_view(value).substr(x + 1));
+      const auto w = small_number(std::string_view(value).substr(0, x)),
+                 h = small_number(std::string_view(value).substr(x + 1));
       if (w && h) return {*w, *h};
     }
   return {0, 0};
@@ -101,7 +105,9 @@ int material_count(const JobManifest& m) {
       if (end == std::string::npos) end = value.size();
       const std::string_view word = std::string_view(value).substr(at, end - at);
       const std::size_t eq = word.rfind('=');
-      if (eq != std::string_view::npos && std::count(word.begin() + static_cast<std::ptrdiff_t>(eq), word.end(), ',') == 3) ++count;
+      if (eq != std::string_view::npos &&
+          std::count(word.begin() + static_cast<std::ptrdiff_t>(eq), word.end(), ',') == 3)
+        ++count;
       at = end + 1;
     }
   }
@@ -128,10 +134,12 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
     } else if (ext == ".tif") {
       std::string problem;
       const int pages = read_tiff_stack(path, [&](int page, const LabelImage& labels) {
-        if (problem.empty()) problem = size_problem(fmt::format("page {}", page + 1), labels.width_px(), labels.height_px());
+        if (problem.empty())
+          problem = size_problem(fmt::format("page {}", page + 1), labels.width_px(), labels.height_px());
       });
       if (!problem.empty()) return problem;
-      if (pages != m.total_layers) return fmt::format("{}: {} pages, the job has {} layers", path.string(), pages, m.total_layers);
+      if (pages != m.total_layers)
+        return fmt::format("{}: {} pages, the job has {} layers", path.string(), pages, m.total_layers);
     } else if (ext == ".vdb") {
       const std::vector<VdbGridInfo> grids = read_vdb_grid_info(path);
       const int materials = material_count(m);
@@ -140,8 +148,8 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
       for (const VdbGridInfo& g : grids)
         if (g.active_voxels > 0 && (g.min[2] < 0 || g.max[2] >= m.total_layers || g.min[0] < 0 || g.min[1] < 0 ||
                                     (width > 0 && (g.max[0] >= width || g.max[1] >= height))))
-          return fmt::format("{}: grid '{}' has voxels outside the job's {} layers of {} x {} px", path.string(), g.name,
-                             m.total_layers, width, height);
+          return fmt::format("{}: grid '{}' has voxels outside the job's {} layers of {} x {} px", path.string(),
+                             g.name, m.total_layers, width, height);
     } else if (ext == ".gcvf") {
       std::string problem;
       const GcvfPackageSummary package = read_gcvf_package(path, [&](const std::string& name, const RgbaImage& im) {
@@ -163,12 +171,14 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
 JobManifest merge_shards(const std::filesystem::path& dir) {
   int count = 0;
   const auto shards = shard_manifests(dir, &count);
-  if (shards.empty()) throw Error(fmt::format("{}: no shard manifests (manifest.shard-I-of-N.json) to merge", dir.string()));
+  if (shards.empty())
+    throw Error(fmt::format("{}: no shard manifests (manifest.shard-I-of-N.json) to merge", dir.string()));
   std::vector<std::string> missing;
   for (int i = 1; i <= count; ++i)
     if (!shards.count(i)) missing.push_back(std::to_string(i));
   if (!missing.empty())
-    throw Error(fmt::format("{}: cannot merge: shard(s) {} of {} have no manifest yet", dir.string(), fmt::join(missing, ", "), count));
+    throw Error(fmt::format("{}: cannot merge: shard(s) {} of {} have no manifest yet", dir.string(),
+                            fmt::join(missing, ", "), count));
 
   JobManifest merged;
   std::vector<int> owner;
@@ -177,8 +187,9 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
     if (m.shard_index != index || m.shard_count != count)
       throw Error(fmt::format("{}: says it is shard {} of {}", path.string(), m.shard_index, m.shard_count));
     if (m.status != JobStatus::kComplete)
-      throw Error(fmt::format("{}: shard {} of {} is {}, not complete; finish it with `trivox slice --shard {}/{} --resume`",
-                              path.string(), index, count, to_string(m.status), index, count));
+      throw Error(
+          fmt::format("{}: shard {} of {} is {}, not complete; finish it with `trivox slice --shard {}/{} --resume`",
+                      path.string(), index, count, to_string(m.status), index, count));
     if (index == 1) {
       merged = m;
       merged.files.clear();
@@ -231,7 +242,8 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
     int count = 0;
     const auto shards = shard_manifests(dir, &count);
     if (!shards.empty())
-      throw IoError(fmt::format("{}: no manifest.json, only shard manifests: run `trivox merge {}` first", dir.string(), dir.string()));
+      throw IoError(fmt::format("{}: no manifest.json, only shard manifests: run `trivox merge {}` first", dir.string(),
+                                dir.string()));
     throw IoError(fmt::format("{}: no manifest.json: not a trivox output folder", dir.string()));
   }
   VerifyReport report;
@@ -250,7 +262,8 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
   }
   if (m.status == JobStatus::kComplete)
     for (std::size_t layer = 0; layer < has_files.size(); ++layer)
-      if (!has_files[layer]) report.problems.push_back(fmt::format("{}: layer {} has no files", path.string(), layer + 1));
+      if (!has_files[layer])
+        report.problems.push_back(fmt::format("{}: layer {} has no files", path.string(), layer + 1));
   return report;
 }
 

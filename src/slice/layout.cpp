@@ -21,9 +21,10 @@ SliceLayout make_layout(const Box3& bounds, const PrinterProfile& printer) {
   auto count = [&](double extent, double pitch, const char* axis, const char* field, double value) {
     const double n = std::ceil(extent / pitch - 1e-9);
     if (!(n < 1e7))
-      throw Error(fmt::format("the model is {:g} mm along {}, which at printer '{}' {} = {:g} needs {:g} samples "
-                              "(at most 1e7): is the model in mm, and the printer's {} right?",
-                              extent, axis, printer.name, field, value, n, field));
+      throw Error(
+          fmt::format("the model is {:g} mm along {}, which at printer '{}' {} = {:g} needs {:g} samples "
+                      "(at most 1e7): is the model in mm, and the printer's {} right?",
+                      extent, axis, printer.name, field, value, n, field));
     return std::max(1, static_cast<int>(n));
   };
   l.width_px = count(size.x, l.pitch_x_mm, "x", "x_dpi", printer.x_dpi);
@@ -31,9 +32,10 @@ SliceLayout make_layout(const Box3& bounds, const PrinterProfile& printer) {
   l.num_layers = count(size.z, l.layer_mm, "z", "layer_thickness_mm", printer.layer_thickness_mm);
   const double layer_pixels = static_cast<double>(l.width_px) * l.height_px;
   if (layer_pixels > static_cast<double>(kMaxLayerPixels))
-    throw Error(fmt::format("one layer would be {} x {} = {:g} pixels, above the limit of {:g}; is the model in mm, "
-                            "and is the printer's resolution right?", l.width_px, l.height_px, layer_pixels,
-                            static_cast<double>(kMaxLayerPixels)));
+    throw Error(
+        fmt::format("one layer would be {} x {} = {:g} pixels, above the limit of {:g}; is the model in mm, "
+                    "and is the printer's resolution right?",
+                    l.width_px, l.height_px, layer_pixels, static_cast<double>(kMaxLayerPixels)));
   // Centre the pixel grid on the model so the margin is split evenly on both sides.
   l.x0_mm = bounds.lo.x - 0.5 * (l.width_px * l.pitch_x_mm - size.x);
   l.y_top_mm = bounds.hi.y + 0.5 * (l.height_px * l.pitch_y_mm - size.y);

@@ -141,7 +141,8 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
   if (!inputs.is_array()) r.fail("/inputs", "must be an array");
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const std::string where = fmt::format("/inputs/{}", i);
-    m.inputs.push_back({r.str(inputs[i], "role", where), r.str(inputs[i], "name", where), r.str(inputs[i], "sha256", where)});
+    m.inputs.push_back(
+        {r.str(inputs[i], "role", where), r.str(inputs[i], "name", where), r.str(inputs[i], "sha256", where)});
   }
   const Json& settings = r.at(doc, "settings", "");
   if (!settings.is_object()) r.fail("/settings", "must be an object");
@@ -164,7 +165,8 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
     const std::filesystem::path p(f.name);
     if (f.name.empty() || p.is_absolute() || std::find(p.begin(), p.end(), "..") != p.end())
       r.fail(where + "/name", fmt::format("\"{}\" is not a relative path inside the output folder", f.name));
-    f.bytes = static_cast<std::uint64_t>(r.integer(files[i], "bytes", where, 0, std::numeric_limits<std::int64_t>::max()));
+    f.bytes =
+        static_cast<std::uint64_t>(r.integer(files[i], "bytes", where, 0, std::numeric_limits<std::int64_t>::max()));
     f.sha256 = r.str(files[i], "sha256", where);
     m.files.push_back(std::move(f));
   }
@@ -195,7 +197,8 @@ std::vector<std::string> manifest_differences(const JobManifest& previous, const
       out.push_back(fmt::format("the scene now reads {} as well", describe(current.inputs[i])));
     } else if (i >= current.inputs.size()) {
       out.push_back(fmt::format("the scene no longer reads {}", describe(previous.inputs[i])));
-    } else if (previous.inputs[i].sha256 != current.inputs[i].sha256 || previous.inputs[i].role != current.inputs[i].role) {
+    } else if (previous.inputs[i].sha256 != current.inputs[i].sha256 ||
+               previous.inputs[i].role != current.inputs[i].role) {
       out.push_back(fmt::format("{} has changed (SHA-256 was {}, is {})", describe(current.inputs[i]),
                                 previous.inputs[i].sha256, current.inputs[i].sha256));
     }

@@ -33,12 +33,12 @@ struct Slicer::CellData {
   struct Clause {
     TrimKind kind;
     TrimSide side;
-    int trivariate = -1;                      // kVolume
-    std::shared_ptr<const ShellMesh> mesh;    // kShell (model space), kParametric (u, v, w)
+    int trivariate = -1;                    // kVolume
+    std::shared_ptr<const ShellMesh> mesh;  // kShell (model space), kParametric (u, v, w)
     // kParametric inside: `mesh` mapped through the cell's volume, the clause's outline in
     // model space (the pixels it keeps lie inside it, or within the outline margin).
     std::shared_ptr<const ShellMesh> outline;
-    int shell_slot = -1;                      // kShell: index of its cut in the layer's cuts
+    int shell_slot = -1;  // kShell: index of its cut in the layer's cuts
   };
   const Cell* cell;
   int trivariate;
@@ -95,8 +95,8 @@ namespace {
 
 // The layer's state of the trivariates traced first and of the cut shells.
 struct LayerTrims {
-  std::vector<std::vector<detail::TracedRow>> rows;  // per trivariate (empty unless traced first)
-  std::vector<std::vector<std::uint8_t>> inside;     // per trivariate, width x height
+  std::vector<std::vector<detail::TracedRow>> rows;          // per trivariate (empty unless traced first)
+  std::vector<std::vector<std::uint8_t>> inside;             // per trivariate, width x height
   std::vector<std::vector<std::vector<double>>> shell_rows;  // per cut shell: crossings per row
 };
 
@@ -131,8 +131,8 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
     auto& t = of_volume.at(static_cast<std::size_t>(v));
     if (t < 0) {
       t = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(std::make_unique<Trivariate>(scene.volumes[static_cast<std::size_t>(v)].volume,
-                                                          outline_tolerance_mm_));
+      trivariates_.push_back(
+          std::make_unique<Trivariate>(scene.volumes[static_cast<std::size_t>(v)].volume, outline_tolerance_mm_));
     }
     return t;
   };
@@ -166,8 +166,8 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
           return volume.evaluate(volume.domain().clamp(uvw));
         };
         if (!mesh) {
-          const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo)
-                                         : shell_tolerance_mm;
+          const double tolerance =
+              param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo) : shell_tolerance_mm;
           auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_)
                          : std::make_shared<ShellMesh>(*clause.shell, tolerance);
           if (m->open_edges() > 0)
@@ -285,16 +285,16 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     for (const auto& k : cd.clauses) {
       bool in;
       if (k.kind == TrimKind::kVolume)
-        in = trims.inside[static_cast<std::size_t>(k.trivariate)][static_cast<std::size_t>(row) * width +
-                                                                  static_cast<std::size_t>(col)] != 0;
+        in = trims.inside[static_cast<std::size_t>(k.trivariate)]
+                         [static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)] != 0;
       else if (k.kind == TrimKind::kShell) {
         const auto& xs = trims.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
         // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
         // times: its pixels are decided by the shell's vote (shell_mesh.h).
-        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), st.z_mm})
-                                                             : detail::inside_crossings(xs, L.x_of_col(col));
-      }
-      else
+        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
+                 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), st.z_mm})
+                 : detail::inside_crossings(xs, L.x_of_col(col));
+      } else
         continue;
       if (in != (k.side == TrimSide::kInside)) return false;
     }
@@ -381,7 +381,8 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       if (fractions.size() < n * static_cast<std::size_t>(m)) fractions.resize(n * static_cast<std::size_t>(m));
       // Scene cells carry their material already wrapped in the scene's fraction policy
       // (CheckedMaterial); the copy into the grid below checks what reaches the dithering.
-      cd.cell->material->evaluate_row(row->uvw, row->xyz, std::span<float>(fractions).first(n * static_cast<std::size_t>(m)));
+      cd.cell->material->evaluate_row(row->uvw, row->xyz,
+                                      std::span<float>(fractions).first(n * static_cast<std::size_t>(m)));
       // A traced row's columns increase: its span is its first and last.
       auto& [first_written, last_written] = buffers->written[static_cast<std::size_t>(r)];
       const bool row_unwritten = first_written > last_written;
@@ -439,7 +440,8 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       st.pixels_inside += in[col];
     }
   }
-  for (int j = 0; j < m; ++j) st.voxels_per_material[static_cast<std::size_t>(j)] = per_label[static_cast<std::size_t>(j) + 1];
+  for (int j = 0; j < m; ++j)
+    st.voxels_per_material[static_cast<std::size_t>(j)] = per_label[static_cast<std::size_t>(j) + 1];
   st.pixels_per_cell.assign(cells_.size(), 0);
   if (several_cells) {
     for (int o : owner)

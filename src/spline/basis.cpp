@@ -31,8 +31,7 @@ void basis_functions(const KnotVector& kv, int span, double t, double* out) noex
   basis_to_degree(kv, span, t, kv.degree(), out);
 }
 
-void basis_first_derivatives(const KnotVector& kv, int span, double t, double* values,
-                             double* derivs) noexcept {
+void basis_first_derivatives(const KnotVector& kv, int span, double t, double* values, double* derivs) noexcept {
   const int p = kv.degree();
   if (p == 0) {
     values[0] = 1.0;

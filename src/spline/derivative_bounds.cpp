@@ -68,8 +68,8 @@ std::optional<Mat3> second_derivative_bounds(const TensorSpline& spline) {
   for (int k = 0; k < net.n[2]; ++k)
     for (int j = 0; j < net.n[1]; ++j)
       for (int i = 0; i < net.n[0]; ++i) {
-        const auto q = spline.point(spline.knots(0).ctrl_index(i), spline.knots(1).ctrl_index(j),
-                                    spline.knots(2).ctrl_index(k));
+        const auto q =
+            spline.point(spline.knots(0).ctrl_index(i), spline.knots(1).ctrl_index(j), spline.knots(2).ctrl_index(k));
         net.at(i, j, k) = {q[0], q[1], q[2]};
       }
   Mat3 bound;

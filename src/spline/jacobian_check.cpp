@@ -24,7 +24,8 @@ JacobianReport check_jacobian(const Volume& v, const JacobianCheckParams& params
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const Vec3 t{static_cast<double>(i) / (n - 1), static_cast<double>(j) / (n - 1), static_cast<double>(k) / (n - 1)};
+        const Vec3 t{static_cast<double>(i) / (n - 1), static_cast<double>(j) / (n - 1),
+                     static_cast<double>(k) / (n - 1)};
         const Vec3 uvw{dom.lo.x + t.x * (dom.hi.x - dom.lo.x), dom.lo.y + t.y * (dom.hi.y - dom.lo.y),
                        dom.lo.z + t.z * (dom.hi.z - dom.lo.z)};
         Vec3 p;
@@ -39,14 +40,21 @@ JacobianReport check_jacobian(const Volume& v, const JacobianCheckParams& params
   r.max_det = *std::max_element(dets.begin(), dets.end());
   const double zero = params.zero_relative * largest;
   for (double d : dets) {
-    if (std::abs(d) <= zero) ++r.zero;
-    else if (d > 0) ++r.positive;
-    else ++r.negative;
+    if (std::abs(d) <= zero)
+      ++r.zero;
+    else if (d > 0)
+      ++r.positive;
+    else
+      ++r.negative;
   }
-  if (r.positive > 0 && r.negative > 0) r.classification = JacobianClass::kFolded;
-  else if (r.zero > 0) r.classification = JacobianClass::kDegenerate;
-  else if (r.negative > 0) r.classification = JacobianClass::kLeftHanded;
-  else r.classification = JacobianClass::kRightHanded;
+  if (r.positive > 0 && r.negative > 0)
+    r.classification = JacobianClass::kFolded;
+  else if (r.zero > 0)
+    r.classification = JacobianClass::kDegenerate;
+  else if (r.negative > 0)
+    r.classification = JacobianClass::kLeftHanded;
+  else
+    r.classification = JacobianClass::kRightHanded;
   return r;
 }
 

@@ -33,12 +33,13 @@ void KnotVector::prepare_span_guess() noexcept {
 }
 
 KnotVector KnotVector::periodic(int order, int num_ctrl, std::vector<double> knots) {
-  if (num_ctrl < 1) throw ModelError(fmt::format("periodic knot vector needs at least one control point, got {}", num_ctrl));
+  if (num_ctrl < 1)
+    throw ModelError(fmt::format("periodic knot vector needs at least one control point, got {}", num_ctrl));
   const auto expected = static_cast<std::size_t>(num_ctrl) + 2 * static_cast<std::size_t>(std::max(order, 0)) - 1;
   if (knots.size() != expected)
-    throw ModelError(fmt::format(
-        "periodic knot vector of order {} with {} control points needs {} knots (n + 2*order - 1), got {}",
-        order, num_ctrl, expected, knots.size()));
+    throw ModelError(
+        fmt::format("periodic knot vector of order {} with {} control points needs {} knots (n + 2*order - 1), got {}",
+                    order, num_ctrl, expected, knots.size()));
   KnotVector kv;
   kv.order_ = order;
   kv.periodic_ = true;
@@ -50,8 +51,9 @@ KnotVector KnotVector::periodic(int order, int num_ctrl, std::vector<double> kno
 
 KnotVector KnotVector::clamped_uniform(int order, int num_ctrl, double lo, double hi) {
   if (order < 1 || num_ctrl < order)
-    throw ModelError(fmt::format("uniform knot vector needs order >= 1 and at least order control points (order {}, {} points)",
-                                 order, num_ctrl));
+    throw ModelError(
+        fmt::format("uniform knot vector needs order >= 1 and at least order control points (order {}, {} points)",
+                    order, num_ctrl));
   std::vector<double> knots;
   knots.reserve(static_cast<std::size_t>(num_ctrl + order));
   const int pieces = num_ctrl - order + 1;
@@ -65,8 +67,8 @@ void KnotVector::validate() const {
   if (order_ < 1 || order_ > kMaxOrder)
     throw ModelError(fmt::format("order {} is outside the supported range 1..{}", order_, kMaxOrder));
   if (knots_.size() < 2 * static_cast<std::size_t>(order_))
-    throw ModelError(fmt::format("a knot vector of order {} needs at least {} knots, got {}", order_, 2 * order_,
-                                 knots_.size()));
+    throw ModelError(
+        fmt::format("a knot vector of order {} needs at least {} knots, got {}", order_, 2 * order_, knots_.size()));
   for (std::size_t i = 0; i < knots_.size(); ++i) {
     if (!std::isfinite(knots_[i])) throw ModelError(fmt::format("knot {} is not a finite number", i));
     if (i > 0 && knots_[i] < knots_[i - 1])

@@ -43,8 +43,7 @@ AxisPieces split_axis(const KnotVector& kv) {
     auto& m = out.matrix.emplace_back();
     double scale = 1.0;  // width^i / i!
     for (int i = 0; i < k; ++i) {
-      for (int j = 0; j < k; ++j)
-        m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = ders[i * k + j] * scale;
+      for (int j = 0; j < k; ++j) m[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] = ders[i * k + j] * scale;
       scale *= (b - a) / (i + 1);
     }
   }
@@ -104,7 +103,8 @@ bool build_power_form(const VolumeData& data, PowerForm& out, std::size_t max_by
                            static_cast<std::size_t>(fv + b) * data.stride_v + static_cast<std::size_t>(fu);
             for (int i = 0; i < ku; ++i) {
               V4 sum{};
-              for (int a = 0; a < ku; ++a) sum += Mu[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] * load(row[a]);
+              for (int a = 0; a < ku; ++a)
+                sum += Mu[static_cast<std::size_t>(i)][static_cast<std::size_t>(a)] * load(row[a]);
               tmp1[at(i, b, c)] = sum;
             }
           }
@@ -112,20 +112,22 @@ bool build_power_form(const VolumeData& data, PowerForm& out, std::size_t max_by
           for (int j = 0; j < kv; ++j)
             for (int i = 0; i < ku; ++i) {
               V4 sum{};
-              for (int b = 0; b < kv; ++b) sum += Mv[static_cast<std::size_t>(j)][static_cast<std::size_t>(b)] * tmp1[at(i, b, c)];
+              for (int b = 0; b < kv; ++b)
+                sum += Mv[static_cast<std::size_t>(j)][static_cast<std::size_t>(b)] * tmp1[at(i, b, c)];
               tmp2[at(i, j, c)] = sum;
             }
-        V4* dst = out.coefficients.data() +
-                  ((static_cast<std::size_t>(pw) * static_cast<std::size_t>(ax[1].axis.pieces) +
-                    static_cast<std::size_t>(pv)) *
-                       static_cast<std::size_t>(ax[0].axis.pieces) +
-                   static_cast<std::size_t>(pu)) *
-                      per_piece;
+        V4* dst =
+            out.coefficients.data() + ((static_cast<std::size_t>(pw) * static_cast<std::size_t>(ax[1].axis.pieces) +
+                                        static_cast<std::size_t>(pv)) *
+                                           static_cast<std::size_t>(ax[0].axis.pieces) +
+                                       static_cast<std::size_t>(pu)) *
+                                          per_piece;
         for (int l = 0; l < kw; ++l)
           for (int j = 0; j < kv; ++j)
             for (int i = 0; i < ku; ++i) {
               V4 sum{};
-              for (int c = 0; c < kw; ++c) sum += Mw[static_cast<std::size_t>(l)][static_cast<std::size_t>(c)] * tmp2[at(i, j, c)];
+              for (int c = 0; c < kw; ++c)
+                sum += Mw[static_cast<std::size_t>(l)][static_cast<std::size_t>(c)] * tmp2[at(i, j, c)];
               dst[at(i, j, l)] = sum;
             }
       }

@@ -50,10 +50,10 @@ struct PowerForm {
   std::vector<V4> coefficients;
 
   const V4* piece(int pu, int pv, int pw) const noexcept {
-    const auto index = (static_cast<std::size_t>(pw) * static_cast<std::size_t>(axis[1].pieces) +
-                        static_cast<std::size_t>(pv)) *
-                           static_cast<std::size_t>(axis[0].pieces) +
-                       static_cast<std::size_t>(pu);
+    const auto index =
+        (static_cast<std::size_t>(pw) * static_cast<std::size_t>(axis[1].pieces) + static_cast<std::size_t>(pv)) *
+            static_cast<std::size_t>(axis[0].pieces) +
+        static_cast<std::size_t>(pu);
     return coefficients.data() + index * coefficients_per_piece;
   }
 };

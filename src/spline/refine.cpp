@@ -23,12 +23,13 @@ struct Grid {
   std::array<int, 3> n{1, 1, 1};  // control points per direction
   int dim = 3;                    // Euclidean point dimension
   bool rational = false;
-  std::vector<double> data;       // n[0]*n[1]*n[2] rows of hdim() values, u fastest
+  std::vector<double> data;  // n[0]*n[1]*n[2] rows of hdim() values, u fastest
 
   int hdim() const { return rational ? dim + 1 : dim; }
   std::size_t offset(int i, int j, int k) const {
     return (static_cast<std::size_t>(i) +
-            static_cast<std::size_t>(n[0]) * (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))) *
+            static_cast<std::size_t>(n[0]) *
+                (static_cast<std::size_t>(j) + static_cast<std::size_t>(n[1]) * static_cast<std::size_t>(k))) *
            static_cast<std::size_t>(hdim());
   }
   double* at(int i, int j, int k) { return &data[offset(i, j, k)]; }
@@ -55,7 +56,8 @@ Grid to_grid(const TensorSpline& s) {
         const auto p = s.point(ci, cj, ck);
         const double w = s.weight(ci, cj, ck);
         double* out = g.at(i, j, k);
-        for (int c = 0; c < g.dim; ++c) out[c] = g.rational ? w * p[static_cast<std::size_t>(c)] : p[static_cast<std::size_t>(c)];
+        for (int c = 0; c < g.dim; ++c)
+          out[c] = g.rational ? w * p[static_cast<std::size_t>(c)] : p[static_cast<std::size_t>(c)];
         if (g.rational) out[g.dim] = w;
       }
   return g;
@@ -72,7 +74,8 @@ TensorSpline from_grid(const Grid& g) {
   for (std::size_t p = 0; p < count; ++p) {
     const double* h = &g.data[p * hd];
     const double wt = g.rational ? h[g.dim] : 1.0;
-    for (std::size_t c = 0; c < static_cast<std::size_t>(g.dim); ++c) pts[p * static_cast<std::size_t>(g.dim) + c] = g.rational ? h[c] / wt : h[c];
+    for (std::size_t c = 0; c < static_cast<std::size_t>(g.dim); ++c)
+      pts[p * static_cast<std::size_t>(g.dim) + c] = g.rational ? h[c] / wt : h[c];
     if (g.rational) w[p] = wt;
   }
   return TensorSpline(std::move(kvs), g.dim, std::move(pts), std::move(w));
@@ -88,7 +91,8 @@ void insert(Grid& g, int d, double u, int r) {
   const int k = static_cast<int>(std::upper_bound(U.begin(), U.end(), u) - U.begin()) - 1;
   const int m = static_cast<int>(std::count(U.begin(), U.end(), u));
   if (k < p || k > np || m + r > p + 1)
-    throw ModelError(fmt::format("cannot insert knot {} {} time(s): outside the domain or multiplicity above the order", u, r));
+    throw ModelError(
+        fmt::format("cannot insert knot {} {} time(s): outside the domain or multiplicity above the order", u, r));
   // A5.1 raises a multiplicity up to the degree p. Reaching the order p + 1 (a break, used
   // for splitting) then only duplicates the control point C(u) = P[k - p]: the copy loops
   // below do exactly that when the blending loop is skipped.
@@ -119,8 +123,14 @@ void insert(Grid& g, int d, double u, int r) {
     for (int t = 0; t < g.n[static_cast<std::size_t>(a)]; ++t) {
       other[static_cast<std::size_t>(a)] = t;
       other[static_cast<std::size_t>(b)] = s;
-      auto P = [&](int i) { auto ijk = idx(other, d, i); return g.at(ijk[0], ijk[1], ijk[2]); };
-      auto Q = [&](int i) { auto ijk = idx(other, d, i); return out.at(ijk[0], ijk[1], ijk[2]); };
+      auto P = [&](int i) {
+        auto ijk = idx(other, d, i);
+        return g.at(ijk[0], ijk[1], ijk[2]);
+      };
+      auto Q = [&](int i) {
+        auto ijk = idx(other, d, i);
+        return out.at(ijk[0], ijk[1], ijk[2]);
+      };
       auto copy = [&](double* dst, const double* src) { std::copy(src, src + hd, dst); };
       for (int i = 0; i <= k - p; ++i) copy(Q(i), P(i));
       for (int i = k - m; i < np; ++i) copy(Q(i + r), P(i));

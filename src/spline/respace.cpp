@@ -24,8 +24,7 @@ std::vector<double> collocation(const KnotVector& kv, std::span<const double> pa
   for (std::size_t r = 0; r < params.size(); ++r) {
     const int span = kv.find_span(params[r]);
     basis_functions(kv, span, params[r], N.data());
-    for (int j = 0; j < k; ++j)
-      m[r * n + static_cast<std::size_t>(span - k + 1 + j)] = N[static_cast<std::size_t>(j)];
+    for (int j = 0; j < k; ++j) m[r * n + static_cast<std::size_t>(span - k + 1 + j)] = N[static_cast<std::size_t>(j)];
   }
   return m;
 }
@@ -84,14 +83,16 @@ Homogeneous to_homogeneous(const TensorSpline& s) {
   for (int p = 0; p < s.total_ctrl(); ++p) {
     const auto pt = s.points().subspan(static_cast<std::size_t>(p * h.dim), static_cast<std::size_t>(h.dim));
     const double w = h.rational ? s.weights()[static_cast<std::size_t>(p)] : 1.0;
-    for (std::size_t c = 0; c < static_cast<std::size_t>(h.dim); ++c) h.data[static_cast<std::size_t>(p) * hd + c] = w * pt[c];
+    for (std::size_t c = 0; c < static_cast<std::size_t>(h.dim); ++c)
+      h.data[static_cast<std::size_t>(p) * hd + c] = w * pt[c];
     if (h.rational) h.data[static_cast<std::size_t>(p) * hd + static_cast<std::size_t>(h.dim)] = w;
   }
   return h;
 }
 
 TensorSpline from_homogeneous(Homogeneous h) {
-  const std::size_t count = static_cast<std::size_t>(h.n[0]) * static_cast<std::size_t>(h.n[1]) * static_cast<std::size_t>(h.n[2]);
+  const std::size_t count =
+      static_cast<std::size_t>(h.n[0]) * static_cast<std::size_t>(h.n[1]) * static_cast<std::size_t>(h.n[2]);
   const std::size_t hd = h.hdim(), dim = static_cast<std::size_t>(h.dim);
   std::vector<double> pts(count * dim), w;
   if (h.rational) w.resize(count);
@@ -110,7 +111,9 @@ void apply_along(Homogeneous& h, int dir, const std::vector<double>& M, int n_ne
   std::array<int, 3> n_out = h.n;
   n_out[d] = n_new;
   const int n_old = h.n[d];
-  std::vector<double> out(static_cast<std::size_t>(n_out[0]) * static_cast<std::size_t>(n_out[1]) * static_cast<std::size_t>(n_out[2]) * hd, 0.0);
+  std::vector<double> out(
+      static_cast<std::size_t>(n_out[0]) * static_cast<std::size_t>(n_out[1]) * static_cast<std::size_t>(n_out[2]) * hd,
+      0.0);
   auto lin = [](const std::array<int, 3>& n, std::array<int, 3> ijk) {
     return static_cast<std::size_t>(ijk[0] + n[0] * (ijk[1] + n[1] * ijk[2]));
   };
@@ -122,7 +125,8 @@ void apply_along(Homogeneous& h, int dir, const std::vector<double>& M, int n_ne
         double* dst = &out[lin(n_out, ijk) * hd];
         std::array<int, 3> src = ijk;
         for (int c = 0; c < n_old; ++c) {
-          const double m = M[static_cast<std::size_t>(r) * static_cast<std::size_t>(n_old) + static_cast<std::size_t>(c)];
+          const double m =
+              M[static_cast<std::size_t>(r) * static_cast<std::size_t>(n_old) + static_cast<std::size_t>(c)];
           if (m == 0.0) continue;
           src[d] = c;
           const double* s = &h.data[lin(h.n, src) * hd];
@@ -160,8 +164,8 @@ std::vector<double> interpolate_values(const KnotVector& kv, std::span<const dou
   const auto n = static_cast<std::size_t>(kv.num_basis());
   const auto cols = static_cast<std::size_t>(dim);
   if (params.size() != n || values.size() != n * cols)
-    throw ModelError(fmt::format("interpolation needs {} parameters and {} values, got {} and {}", n,
-                                 n * cols, params.size(), values.size()));
+    throw ModelError(fmt::format("interpolation needs {} parameters and {} values, got {} and {}", n, n * cols,
+                                 params.size(), values.size()));
   std::vector<double> A = collocation(kv, params);
   std::vector<double> B(values.begin(), values.end());
   if (!solve_dense(A, B, n, cols))
@@ -215,7 +219,8 @@ TensorSpline elevate_degree(const TensorSpline& s, int dir, int times) {
   const TensorSpline c = clamped(s);
   if (times == 0) return c;
   if (c.knots(dir).order() + times > kMaxOrder)
-    throw ModelError(fmt::format("elevating order {} by {} exceeds the maximum order {}", c.knots(dir).order(), times, kMaxOrder));
+    throw ModelError(
+        fmt::format("elevating order {} by {} exceeds the maximum order {}", c.knots(dir).order(), times, kMaxOrder));
   return respace(c, dir, elevated_knots(c.knots(dir), times));
 }
 
@@ -230,8 +235,9 @@ TensorSpline reparametrized(const TensorSpline& s, int dir, double lo, double hi
   // Keep the knots non-decreasing even where rounding would nudge one past a neighbour.
   for (std::size_t i = 1; i < t.size(); ++i) t[i] = std::max(t[i], t[i - 1]);
   std::vector<KnotVector> knots = s.all_knots();
-  knots[static_cast<std::size_t>(dir)] =
-      kv.is_periodic() ? KnotVector::periodic(kv.order(), kv.num_ctrl(), std::move(t)) : KnotVector(kv.order(), std::move(t));
+  knots[static_cast<std::size_t>(dir)] = kv.is_periodic()
+                                             ? KnotVector::periodic(kv.order(), kv.num_ctrl(), std::move(t))
+                                             : KnotVector(kv.order(), std::move(t));
   return TensorSpline(std::move(knots), s.point_dim(), std::vector<double>(s.points().begin(), s.points().end()),
                       std::vector<double>(s.weights().begin(), s.weights().end()));
 }
@@ -256,7 +262,8 @@ TensorSpline permuted(const TensorSpline& s, std::span<const int> order) {
     for (out[1] = 0; out[1] < n[1]; ++out[1])
       for (out[0] = 0; out[0] < n[0]; ++out[0], ++p) {
         src = {0, 0, 0};
-        for (int d = 0; d < pd; ++d) src[static_cast<std::size_t>(order[static_cast<std::size_t>(d)])] = out[static_cast<std::size_t>(d)];
+        for (int d = 0; d < pd; ++d)
+          src[static_cast<std::size_t>(order[static_cast<std::size_t>(d)])] = out[static_cast<std::size_t>(d)];
         const auto q = s.point(src[0], src[1], src[2]);
         std::copy(q.begin(), q.end(), pts.begin() + static_cast<std::ptrdiff_t>(p * dim));
         if (!w.empty()) w[p] = s.weight(src[0], src[1], src[2]);

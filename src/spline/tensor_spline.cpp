@@ -39,9 +39,10 @@ void TensorSpline::validate() const {
     for (int c = 0; c < point_dim_; ++c) {
       const double p = points_[i * static_cast<std::size_t>(point_dim_) + static_cast<std::size_t>(c)];
       if (!std::isfinite(weights_[i] * p))
-        throw ModelError(fmt::format("control point {}: weight {} times coordinate {} overflows; the weighted "
-                                     "coordinates of a rational spline must be finite numbers",
-                                     i, weights_[i], p));
+        throw ModelError(
+            fmt::format("control point {}: weight {} times coordinate {} overflows; the weighted "
+                        "coordinates of a rational spline must be finite numbers",
+                        i, weights_[i], p));
     }
 }
 
@@ -73,7 +74,8 @@ struct DirectionBasis {
 
 void TensorSpline::evaluate(std::span<const double> t, std::span<double> out) const {
   std::array<DirectionBasis, 3> b;
-  for (int d = 0; d < param_dim(); ++d) b[static_cast<std::size_t>(d)].compute(knots_[static_cast<std::size_t>(d)], t[static_cast<std::size_t>(d)], false);
+  for (int d = 0; d < param_dim(); ++d)
+    b[static_cast<std::size_t>(d)].compute(knots_[static_cast<std::size_t>(d)], t[static_cast<std::size_t>(d)], false);
   const auto dim = static_cast<std::size_t>(point_dim_);
   std::fill(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(dim), 0.0);
   double wsum = 0.0;
@@ -96,7 +98,8 @@ void TensorSpline::evaluate_with_partials(std::span<const double> t, std::span<d
                                           std::span<double> partials) const {
   const int pd = param_dim();
   std::array<DirectionBasis, 3> b;
-  for (int d = 0; d < pd; ++d) b[static_cast<std::size_t>(d)].compute(knots_[static_cast<std::size_t>(d)], t[static_cast<std::size_t>(d)], true);
+  for (int d = 0; d < pd; ++d)
+    b[static_cast<std::size_t>(d)].compute(knots_[static_cast<std::size_t>(d)], t[static_cast<std::size_t>(d)], true);
   const auto dim = static_cast<std::size_t>(point_dim_);
   std::fill(value.begin(), value.begin() + static_cast<std::ptrdiff_t>(dim), 0.0);
   std::fill(partials.begin(), partials.begin() + static_cast<std::ptrdiff_t>(dim) * pd, 0.0);

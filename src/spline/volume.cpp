@@ -4,10 +4,10 @@
 
 #include <fmt/format.h>
 
-#include "trivox/error.h"
-#include "trivox/spline/basis.h"
 #include "derivative_bounds.h"
 #include "power_form.h"
+#include "trivox/error.h"
+#include "trivox/spline/basis.h"
 #include "volume_kernels.h"
 
 namespace trivox {

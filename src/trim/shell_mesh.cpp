@@ -71,9 +71,9 @@ std::pair<double, double> deviation(const TensorSpline& s, int n, const Map* map
         // The mapped edge midpoints too: a map that bends a straight edge moves the outline
         // where neighbouring cells meet.
         const Vec3 e0 = (*map)(0.5 * (prev[k - 1] + prev[k])), e1 = (*map)(0.5 * (prev[k - 1] + cur[k - 1]));
-        worst_mapped = std::max({worst_mapped, norm(mc - mb), norm(mc - 0.5 * (prev_m[k - 1] + cur_m[k])),
-                                 norm(e0 - 0.5 * (prev_m[k - 1] + prev_m[k])),
-                                 norm(e1 - 0.5 * (prev_m[k - 1] + cur_m[k - 1]))});
+        worst_mapped =
+            std::max({worst_mapped, norm(mc - mb), norm(mc - 0.5 * (prev_m[k - 1] + cur_m[k])),
+                      norm(e0 - 0.5 * (prev_m[k - 1] + prev_m[k])), norm(e1 - 0.5 * (prev_m[k - 1] + cur_m[k - 1]))});
       }
     }
     std::swap(prev, cur);
@@ -110,10 +110,11 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
   for (std::size_t i = 0; i < shell.surfaces.size(); ++i) {
     const TensorSpline& s = shell.surfaces[i];
     if (s.param_dim() != 2 || s.point_dim() != 3)
-      throw ModelError(fmt::format("{}: surface {} has {} parameter(s) and {} coordinate(s); a shell takes "
-                                   "surfaces in space (2 and 3)", shell.name, i, s.param_dim(), s.point_dim()));
-    for (int d = 0; d < 2; ++d)
-      n = std::max(n, 2 * (static_cast<int>(s.knots(d).interior_breaks().size()) + 1) + 1);
+      throw ModelError(
+          fmt::format("{}: surface {} has {} parameter(s) and {} coordinate(s); a shell takes "
+                      "surfaces in space (2 and 3)",
+                      shell.name, i, s.param_dim(), s.point_dim()));
+    for (int d = 0; d < 2; ++d) n = std::max(n, 2 * (static_cast<int>(s.knots(d).interior_breaks().size()) + 1) + 1);
   }
   // One sample count for every surface and direction keeps shared edges sampled alike.
   n = std::min(n, max_samples);
@@ -145,7 +146,8 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
   std::vector<int> index(raw.size());
   for (std::size_t k = 0; k < raw.size(); ++k) {
     const Vec3& p = raw[k];
-    const CellKey key{static_cast<std::int64_t>(std::floor(p.x / weld)), static_cast<std::int64_t>(std::floor(p.y / weld)),
+    const CellKey key{static_cast<std::int64_t>(std::floor(p.x / weld)),
+                      static_cast<std::int64_t>(std::floor(p.y / weld)),
                       static_cast<std::int64_t>(std::floor(p.z / weld))};
     int found = -1;
     for (int dx = -1; dx <= 1 && found < 0; ++dx)
@@ -198,13 +200,14 @@ void ShellMesh::build_trimmed(const TrimShell& shell, double tolerance, const st
   for (const TrimmedSurface& t : shell.trimmed) all.push_back(&t.surface);
   for (const TensorSpline* s : all)
     if (s->param_dim() != 2 || s->point_dim() != 3)
-      throw ModelError(fmt::format("{}: a surface has {} parameter(s) and {} coordinate(s); a shell takes surfaces in "
-                                   "space (2 and 3)", shell.name, s->param_dim(), s->point_dim()));
+      throw ModelError(
+          fmt::format("{}: a surface has {} parameter(s) and {} coordinate(s); a shell takes surfaces in "
+                      "space (2 and 3)",
+                      shell.name, s->param_dim(), s->point_dim()));
   // One sample count for all, as for a welded shell (the seams share no vertices here).
   int n = 3;
   for (const TensorSpline* s : all)
-    for (int d = 0; d < 2; ++d)
-      n = std::max(n, 2 * (static_cast<int>(s->knots(d).interior_breaks().size()) + 1) + 1);
+    for (int d = 0; d < 2; ++d) n = std::max(n, 2 * (static_cast<int>(s->knots(d).interior_breaks().size()) + 1) + 1);
   n = std::min(n, max_samples);
   while (n < max_samples) {
     double worst = 0, worst_mapped = 0;
@@ -265,8 +268,8 @@ void ShellMesh::build_index() {
       z_buckets_[static_cast<std::size_t>(i)].push_back(static_cast<int>(k));
     for (int iz = clampi((b.lo.z - z0_) / dzc, ny_); iz <= clampi((b.hi.z - z0_) / dzc, ny_); ++iz)
       for (int iy = clampi((b.lo.y - y0_) / dy_, ny_); iy <= clampi((b.hi.y - y0_) / dy_, ny_); ++iy)
-        yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)].push_back(
-            static_cast<int>(k));
+        yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)]
+            .push_back(static_cast<int>(k));
   }
 }
 
@@ -348,7 +351,8 @@ bool ShellMesh::contains(Vec3 p) const {
     int beyond = 0, total = 0;
     ShellSegment s;
     double x;
-    for (int tri : yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
+    for (int tri :
+         yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
       if (cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x)) {
         ++total;
         if (x > p.x) ++beyond;
@@ -362,8 +366,8 @@ bool ShellMesh::contains(Vec3 p) const {
     }
     return beyond % 2 == 1;
   }
-  if (yz_cells_.empty() || !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y && p.y <= bounds_.hi.y) ||
-      p.x > bounds_.hi.x)
+  if (yz_cells_.empty() ||
+      !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y && p.y <= bounds_.hi.y) || p.x > bounds_.hi.x)
     return false;
   const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
   const int iz = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dzc)), 0, ny_ - 1);

@@ -82,19 +82,21 @@ std::vector<std::vector<Vec3>> trim_loops(const TrimmedSurface& s) {
       if (!poly.empty()) {
         const double d = norm(line.front() - poly.back());
         if (d > 1e-6 * size)
-          throw ModelError(fmt::format("{}: loop {} is open: segment {} ends at (u, v) = ({:.9g}, {:.9g}) but segment "
-                                       "{} starts at ({:.9g}, {:.9g})",
-                                       s.name, l + 1, loop[k - 1].segment + 1, poly.back().x, poly.back().y,
-                                       loop[k].segment + 1, line.front().x, line.front().y));
+          throw ModelError(
+              fmt::format("{}: loop {} is open: segment {} ends at (u, v) = ({:.9g}, {:.9g}) but segment "
+                          "{} starts at ({:.9g}, {:.9g})",
+                          s.name, l + 1, loop[k - 1].segment + 1, poly.back().x, poly.back().y, loop[k].segment + 1,
+                          line.front().x, line.front().y));
         line.erase(line.begin());
       }
       poly.insert(poly.end(), line.begin(), line.end());
     }
     if (poly.size() < 3) throw ModelError(fmt::format("{}: loop {} encloses nothing", s.name, l + 1));
     if (norm(poly.front() - poly.back()) > 1e-6 * size)
-      throw ModelError(fmt::format("{}: loop {} is open: it ends at (u, v) = ({:.9g}, {:.9g}), not where it starts, "
-                                   "({:.9g}, {:.9g})",
-                                   s.name, l + 1, poly.back().x, poly.back().y, poly.front().x, poly.front().y));
+      throw ModelError(
+          fmt::format("{}: loop {} is open: it ends at (u, v) = ({:.9g}, {:.9g}), not where it starts, "
+                      "({:.9g}, {:.9g})",
+                      s.name, l + 1, poly.back().x, poly.back().y, poly.front().x, poly.front().y));
     poly.pop_back();
     loops.push_back(std::move(poly));
   }
@@ -185,9 +187,10 @@ double check_trimmed_closed(const TrimShell& shell, double gap) {
   }
   double worst = 0;
   auto fail = [&](std::size_t surface, int segment, Vec3 at, double d, const std::string& why) {
-    throw ModelError(fmt::format("{}: {}: trimming segment {} {} ({:.6g} at ({:.6g}, {:.6g}, {:.6g}), more than the "
-                                 "allowed gap {:.3g}): the surfaces do not close",
-                                 shell.name, shell.trimmed[surface].name, segment + 1, why, d, at.x, at.y, at.z, gap));
+    throw ModelError(
+        fmt::format("{}: {}: trimming segment {} {} ({:.6g} at ({:.6g}, {:.6g}, {:.6g}), more than the "
+                    "allowed gap {:.3g}): the surfaces do not close",
+                    shell.name, shell.trimmed[surface].name, segment + 1, why, d, at.x, at.y, at.z, gap));
   };
   std::vector<const Use*> seams;
   for (const auto& [segment, list] : uses) {

@@ -149,7 +149,7 @@ TEST(HotPathAllocations, GlobalSolvesAllocateOnlyTheirResult) {
     if (count) {
       EXPECT_EQ(outside_allocations, 0);
       EXPECT_LE(inside_allocations, static_cast<long>(inside.size()));  // the one preimage each
-      EXPECT_EQ(none, static_cast<int>(outside.size()));  // the work was done
+      EXPECT_EQ(none, static_cast<int>(outside.size()));                // the work was done
       EXPECT_EQ(unique, static_cast<int>(inside.size()));
     }
   };

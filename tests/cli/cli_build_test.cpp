@@ -26,7 +26,8 @@ TEST(CliBuild, WritesTheConstructedVolume) {
   ScratchDir dir;
   write_text(dir.path() / "tube.json", kTube);
   const auto out = dir.path() / "tube.itd";
-  const CliResult r = run_cli("build " + shell_quote(dir.path() / "tube.json") + " -o " + shell_quote(out) + " --name TUBE");
+  const CliResult r =
+      run_cli("build " + shell_quote(dir.path() / "tube.json") + " -o " + shell_quote(out) + " --name TUBE");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("revolve volume"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("jacobian"), std::string::npos) << r.out;
@@ -63,7 +64,8 @@ TEST(CliBuild, BadFieldsNameTheirPointer) {
   std::string spec = kTube;
   spec.replace(spec.find("270"), 3, "720");
   write_text(dir.path() / "bad.json", spec);
-  const CliResult r = run_cli("build " + shell_quote(dir.path() / "bad.json") + " -o " + shell_quote(dir.path() / "x.itd"));
+  const CliResult r =
+      run_cli("build " + shell_quote(dir.path() / "bad.json") + " -o " + shell_quote(dir.path() / "x.itd"));
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("/revolve/angle_deg"), std::string::npos) << r.err;
 }

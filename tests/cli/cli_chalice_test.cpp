@@ -19,8 +19,8 @@ const std::filesystem::path kChalice = examples_dir() / "scenes" / "chalice.json
 
 TEST(Chalice, WholeChaliceSlicesWithoutUnresolvedOrFoldedPixels) {
   ScratchDir dir;
-  const CliResult r = run_cli("slice " + shell_quote(kChalice) + " -o " + shell_quote(dir.path()) +
-                              " --format preview -q -j 2");
+  const CliResult r =
+      run_cli("slice " + shell_quote(kChalice) + " -o " + shell_quote(dir.path()) + " --format preview -q -j 2");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json stats = nlohmann::json::parse(read_text(dir.path() / "stats.json"));
   const nlohmann::json& t = stats.at("total");
@@ -49,4 +49,4 @@ TEST(Chalice, WholeChaliceSlicesWithoutUnresolvedOrFoldedPixels) {
 }
 
 }  // namespace
-}  // namespace trivox
+}  // namespace trivox::test

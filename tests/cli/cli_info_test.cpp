@@ -157,7 +157,7 @@ TEST(CliInfo, JacobianClassesMatchProvenance) {
     const nlohmann::json doc = nlohmann::json::parse(r.out);
     for (const nlohmann::json& p : doc.at("patches")) {
       if (p.at("kind") != "trivariate") continue;  // the provenance counts trivariates only
-      if (p.at("jacobian").is_null()) {  // a scalar field (E1): no Jacobian to classify
+      if (p.at("jacobian").is_null()) {            // a scalar field (E1): no Jacobian to classify
         EXPECT_NE(p.at("point_dim"), 3) << cols[0];
         all_geometry = false;
         continue;

@@ -10,9 +10,9 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
+#include "slice/job_fixtures.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
-#include "slice/job_fixtures.h"
 
 namespace trivox::test {
 namespace {
@@ -21,7 +21,9 @@ namespace fs = std::filesystem;
 
 std::string scene() { return shell_quote(examples_dir() / "scenes" / "quick_start.json"); }
 // 12 model layers padded to 30: about a second of work.
-std::string slice_args(const fs::path& out) { return "slice " + scene() + " --layers 1:12 -q -j 2 -o " + shell_quote(out); }
+std::string slice_args(const fs::path& out) {
+  return "slice " + scene() + " --layers 1:12 -q -j 2 -o " + shell_quote(out);
+}
 
 // No temporaries, and every PNG under a final name decodes.
 void expect_no_partial_files(const fs::path& dir) {
@@ -68,8 +70,8 @@ TEST_F(CliJob, KilledOrInterruptedAtRandomMomentsThenResumedIsByteIdentical) {
     const fs::path out = dir.path() / "out";
     const bool gentle = trial % 2 == 1;  // SIGINT (Ctrl-C) or SIGKILL
     const double after_s = std::uniform_real_distribution<double>(0.05, 0.8)(rng);
-    const CliResult killed = run_cli(fmt::format("--preserve-status -s {} {:.3f} {} {}", gentle ? "INT" : "KILL", after_s,
-                                                 shell_quote(cli_path()), slice_args(out)),
+    const CliResult killed = run_cli(fmt::format("--preserve-status -s {} {:.3f} {} {}", gentle ? "INT" : "KILL",
+                                                 after_s, shell_quote(cli_path()), slice_args(out)),
                                      "", "", "timeout");
     // A signal that arrives before the program installed its handler (while it starts up)
     // ends it before any output exists; once a manifest exists, SIGINT must end cleanly.

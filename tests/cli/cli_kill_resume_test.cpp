@@ -24,11 +24,11 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
+#include "slice/job_fixtures.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 #include "trivox/slice/manifest.h"
-#include "slice/job_fixtures.h"
 
 extern char** environ;
 
@@ -41,8 +41,19 @@ constexpr int kLayers = 30;
 
 // The arguments of the job, after the program's name.
 std::vector<std::string> slice_words(const fs::path& out) {
-  return {"slice", (examples_dir() / "scenes" / "quick_start.json").string(), "--layers", fmt::format("1:{}", kLayers),
-          "--min-layers", "0", "-q", "-j", "2", "--manifest-interval", "0", "-o", out.string()};
+  return {"slice",
+          (examples_dir() / "scenes" / "quick_start.json").string(),
+          "--layers",
+          fmt::format("1:{}", kLayers),
+          "--min-layers",
+          "0",
+          "-q",
+          "-j",
+          "2",
+          "--manifest-interval",
+          "0",
+          "-o",
+          out.string()};
 }
 
 // The same for run_cli, quoted for the shell.

@@ -38,7 +38,7 @@ fs::path data_dir() { return TRIVOX_TEST_DATA_DIR; }
 struct NegativeCase {
   std::string name;
   int exit_code = -1;
-  std::string command;                 // after `trivox`, words separated by blanks
+  std::string command;                // after `trivox`, words separated by blanks
   std::vector<std::string> messages;  // each must appear in standard error
   int manifest_line = 0;
 };

@@ -119,8 +119,8 @@ TEST(CliProbe, EvalOutsideTheDomainIsAnAnswerNotAnError) {
 }
 
 TEST(CliProbe, SkipsBlankLinesAndCommentsAndNumbersLinesAsInTheInput) {
-  const CliResult r = run_cli("probe --eval --patch 0 " + model("annulus_sector.itd"),
-                              "# header\n\n   \n0 0 0  # a corner\n1,1,1\r\n");
+  const CliResult r =
+      run_cli("probe --eval --patch 0 " + model("annulus_sector.itd"), "# header\n\n   \n0 0 0  # a corner\n1,1,1\r\n");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto lines = json_lines(r.out);
   ASSERT_EQ(lines.size(), 2u);

@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
+#include "slice/job_fixtures.h"
 #include "trivox/io/sha256.h"
 #include "trivox/slice/manifest.h"
-#include "slice/job_fixtures.h"
 
 namespace trivox::test {
 namespace {
@@ -25,8 +25,8 @@ TEST(CliResume, AModelFileIsHashedInTheManifestAndAnEditRefusesResume) {
   const fs::path model = dir.path() / "models" / "twisted_column.itd";
   fs::copy_file(examples_dir() / "models" / "twisted_column.itd", model);
   const fs::path out = dir.path() / "out";
-  const std::string args = "slice " + shell_quote(dir.path() / "scenes" / "column.json") + " --layers 1:4 -q -j 2 -o " +
-                           shell_quote(out);
+  const std::string args =
+      "slice " + shell_quote(dir.path() / "scenes" / "column.json") + " --layers 1:4 -q -j 2 -o " + shell_quote(out);
   const CliResult first = run_cli(args);
   ASSERT_EQ(first.exit_code, 0) << first.err;
 

@@ -79,8 +79,8 @@ inline CliResult run_cli(const std::string& args, const std::string& input = {},
   write_text(in, input);
   const bool prefix_only = !launcher.empty() && launcher.back() == ';';
   const std::string program = launcher.empty() ? shell_quote(cli_path())
-                              : prefix_only   ? launcher + " " + shell_quote(cli_path())
-                                              : launcher;
+                              : prefix_only    ? launcher + " " + shell_quote(cli_path())
+                                               : launcher;
   const std::string command = program + " " + args + " < " + shell_quote(in) + " > " +
                               (stdout_redirect.empty() ? shell_quote(out) : stdout_redirect) + " 2> " +
                               shell_quote(err);

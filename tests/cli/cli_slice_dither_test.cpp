@@ -12,8 +12,8 @@ const std::string kScene = shell_quote(examples_dir() / "scenes" / "dithering_sk
 
 TEST(CliSliceDither, OptionsOverrideTheScene) {
   ScratchDir dir;
-  const CliResult scene_only = run_cli("slice " + kScene + " -o " + shell_quote(dir.path() / "a") +
-                                       " -q --layers 1:2 --min-layers 0");
+  const CliResult scene_only =
+      run_cli("slice " + kScene + " -o " + shell_quote(dir.path() / "a") + " -q --layers 1:2 --min-layers 0");
   ASSERT_EQ(scene_only.exit_code, 0) << scene_only.err;
   const auto a = nlohmann::json::parse(read_text(dir.path() / "a" / "stats.json"));
   EXPECT_EQ(a["dithering"]["method"], "blue-noise");

@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "trivox/output/atomic_file.h"
 #include "slice/job_fixtures.h"
+#include "trivox/output/atomic_file.h"
 
 namespace trivox::test {
 namespace {

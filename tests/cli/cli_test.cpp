@@ -33,13 +33,9 @@ TEST(CliUsage, UnknownFlagExits2) {
   EXPECT_TRUE(r.out.empty());
 }
 
-TEST(CliUsage, UnknownSubcommandExits2) {
-  EXPECT_EQ(run_cli("frobnicate " + column()).exit_code, 2);
-}
+TEST(CliUsage, UnknownSubcommandExits2) { EXPECT_EQ(run_cli("frobnicate " + column()).exit_code, 2); }
 
-TEST(CliUsage, MissingModelArgumentExits2) {
-  EXPECT_EQ(run_cli("info").exit_code, 2);
-}
+TEST(CliUsage, MissingModelArgumentExits2) { EXPECT_EQ(run_cli("info").exit_code, 2); }
 
 TEST(CliUsage, EvalWithoutPatchExits2) {
   const CliResult r = run_cli("probe --eval " + column(), "1 1 1\n");
@@ -54,9 +50,7 @@ TEST(CliUsage, PatchOutOfRangeExits2AndSaysHowManyPatches) {
   EXPECT_TRUE(r.out.empty());
 }
 
-TEST(CliUsage, NegativePatchExits2) {
-  EXPECT_EQ(run_cli("probe --patch -1 " + column(), "1 1 1\n").exit_code, 2);
-}
+TEST(CliUsage, NegativePatchExits2) { EXPECT_EQ(run_cli("probe --patch -1 " + column(), "1 1 1\n").exit_code, 2); }
 
 TEST(CliErrors, MissingModelExits4AndNamesTheFile) {
   ScratchDir dir;

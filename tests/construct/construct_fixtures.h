@@ -60,7 +60,8 @@ inline TensorSpline circle_curve(Vec3 c, double r) {
     pts.insert(pts.end(), {c.x + r * xy[i][0], c.y + r * xy[i][1], c.z});
     w.push_back(i % 2 ? h : 1.0);
   }
-  return TensorSpline({KnotVector(3, {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1})}, 3, std::move(pts), std::move(w));
+  return TensorSpline({KnotVector(3, {0, 0, 0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1, 1, 1})}, 3, std::move(pts),
+                      std::move(w));
 }
 
 }  // namespace trivox::test

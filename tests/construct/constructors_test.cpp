@@ -105,7 +105,8 @@ TEST(Construct, RevolutionGivesExactCylinders) {
   for (double angle : {360.0, 200.0, 45.0}) {
     const Constructed c = revolve(profile, {{0, 0, 0}, {0, 0, 1}, angle});
     EXPECT_TRUE(c.report.jacobian.classification == JacobianClass::kRightHanded ||
-                c.report.jacobian.classification == JacobianClass::kLeftHanded) << c.report.describe();
+                c.report.jacobian.classification == JacobianClass::kLeftHanded)
+        << c.report.describe();
     for (int i = 0; i < 400; ++i) {
       const auto t = random_params(c.volume.spline(), rng);
       const Vec3 p = c.volume.evaluate({t[0], t[1], t[2]});
@@ -123,7 +124,9 @@ TEST(Construct, RevolutionGivesExactCylinders) {
   }
   // Any axis: the distance to the axis and the position along it stay those of the profile.
   const Vec3 o{1, 2, 3}, a = (1.0 / std::sqrt(3.0)) * Vec3{1, 1, 1};
-  const TensorSpline tilted = test::bilinear_plate([](double s, double t) { return Vec3{12 + 8 * s, 1 + 3 * t * s, 5 * t - 2}; });
+  const TensorSpline tilted = test::bilinear_plate([](double s, double t) {
+    return Vec3{12 + 8 * s, 1 + 3 * t * s, 5 * t - 2};
+  });
   RevolveParams params{o, Vec3{2, 2, 2}, 300.0};
   params.angle_direction = 0;
   const Constructed c = revolve(tilted, params);
@@ -151,8 +154,9 @@ TEST(Construct, RevolutionOfADiscGivesAnExactTorus) {
     // Inside: the distance to the axis is the profile point's.
     const auto s = random_params(c.volume.spline(), rng);
     const Vec3 q = eval3(disc, {s[0], s[1], 0});
-    EXPECT_LE(std::abs(std::hypot(c.volume.evaluate({s[0], s[1], s[2]}).x, c.volume.evaluate({s[0], s[1], s[2]}).y) - q.x),
-              1e-12 * R);
+    EXPECT_LE(
+        std::abs(std::hypot(c.volume.evaluate({s[0], s[1], s[2]}).x, c.volume.evaluate({s[0], s[1], s[2]}).y) - q.x),
+        1e-12 * R);
   }
   // The disc's corners are singular points of its parametrization: det J vanishes there
   // (and only on the edges through them), which the report places.
@@ -283,8 +287,12 @@ TEST(Construct, ShellFacesInAnyOrderAndOrientationAreArranged) {
   const std::array<TensorSpline, 6> faces = faces_of(test::twisted_bent_box(20, 10, 15, 5, 3).spline());
   // Shuffled, with parameters swapped and reversed.
   const std::array<int, 2> swap{1, 0};
-  const std::vector<TensorSpline> shell = {faces[kFaceV1], reversed(faces[kFaceU0], 1), permuted(faces[kFaceW1], swap),
-                                           faces[kFaceW0], reversed(permuted(faces[kFaceU1], swap), 0), faces[kFaceV0]};
+  const std::vector<TensorSpline> shell = {faces[kFaceV1],
+                                           reversed(faces[kFaceU0], 1),
+                                           permuted(faces[kFaceW1], swap),
+                                           faces[kFaceW0],
+                                           reversed(permuted(faces[kFaceU1], swap), 0),
+                                           faces[kFaceV0]};
   const std::array<TensorSpline, 6> arranged = arrange_cube_faces(shell);
   const Constructed c = coons(arranged);
   expect_interpolates_faces(c.volume, arranged, rng, 1e-11 * 40);

@@ -52,7 +52,8 @@ TEST_P(FuzzInputs, EveryCheckedInInputEndsInAResultOrADocumentedError) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, FuzzInputs,
-                         ::testing::ValuesIn(std::vector<std::string>(std::begin(fuzz::kTargets), std::end(fuzz::kTargets))),
+                         ::testing::ValuesIn(std::vector<std::string>(std::begin(fuzz::kTargets),
+                                                                      std::end(fuzz::kTargets))),
                          [](const ::testing::TestParamInfo<std::string>& target) { return target.param; });
 
 }  // namespace

@@ -75,13 +75,15 @@ TEST(Exclusion, KrawczykNoRootMeansNoPointOfTheBoxMapsNearX) {
     for (int a = 0; a < 4; ++a)
       for (int b = 0; b < 4; ++b)
         for (int d = 0; d < 4; ++d) {
-          const InverseResult r = detail::newton_in_box(v, x, lerp(box, {(a + 0.5) / 4, (b + 0.5) / 4, (d + 0.5) / 4}), box, {});
+          const InverseResult r =
+              detail::newton_in_box(v, x, lerp(box, {(a + 0.5) / 4, (b + 0.5) / 4, (d + 0.5) / 4}), box, {});
           EXPECT_NE(r.status, InverseStatus::kConverged) << "trial " << trial;
         }
     double closest = HUGE_VAL;
     for (int a = 0; a <= 12; ++a)
       for (int b = 0; b <= 12; ++b)
-        for (int d = 0; d <= 12; ++d) closest = std::min(closest, norm(v.evaluate(lerp(box, {a / 12.0, b / 12.0, d / 12.0})) - x));
+        for (int d = 0; d <= 12; ++d)
+          closest = std::min(closest, norm(v.evaluate(lerp(box, {a / 12.0, b / 12.0, d / 12.0})) - x));
     EXPECT_GT(closest, tol);
   }
   // The sample is informative: both verdicts occur.
@@ -146,7 +148,8 @@ TEST(PieceIndex, FindsExactlyTheBoxesAScanFindsInTheSameOrder) {
     for (int trial = 0; trial < 2000; ++trial) {
       // Points near box corners too, so that the tolerance decides.
       Vec3 p{U(rng), U(rng), U(rng)};
-      if (!boxes.empty() && trial % 3 == 0) p = boxes[static_cast<std::size_t>(trial) % boxes.size()].hi + Vec3{1e-3, 0, -1e-3};
+      if (!boxes.empty() && trial % 3 == 0)
+        p = boxes[static_cast<std::size_t>(trial) % boxes.size()].hi + Vec3{1e-3, 0, -1e-3};
       const double tol = trial % 2 ? 0.0 : 2e-3;
       std::vector<int> scan, indexed{-1};  // query appends: keep what was there
       for (std::size_t i = 0; i < boxes.size(); ++i)
@@ -227,7 +230,8 @@ TEST(BezierNet, HalvesAreTheNetsOfTheHalfBoxes) {
             EXPECT_DOUBLE_EQ(half->box.hi[c], half_box.hi[c]);
           }
           for (std::size_t q = 0; q < expected.h.size(); ++q) {
-            for (std::size_t c = 0; c < 4; ++c) EXPECT_NEAR(half->h[q][c], expected.h[q][c], 1e-12) << "direction " << d;
+            for (std::size_t c = 0; c < 4; ++c)
+              EXPECT_NEAR(half->h[q][c], expected.h[q][c], 1e-12) << "direction " << d;
             EXPECT_EQ(half->h[q], halves[static_cast<std::size_t>(k)].h[q]);  // halve() is halve_into()
           }
           ++k;

@@ -32,8 +32,9 @@ std::vector<Fixture> regular_fixtures() {
   const KnotVector kw(4, {0, 0, 0, 0, 0.1, 0.2, 0.5, 0.6, 0.95, 1, 1, 1, 1});
   f.push_back({"twisted cubic, non-uniform 8x7x9", test::twisted_bent_volume(ku, kv, kw, {25, 10, 80}, 1.2, 0.0)});
   f.push_back({"bent cubic, non-uniform 7x9x8", test::twisted_bent_volume(kv, kw, ku, {12, 30, 20}, 0.0, 0.45)});
-  f.push_back({"left-handed annulus",
-               Volume(test::annulus_sector(1.0, 2.0, 0.7).spline().transformed([](std::span<double> p) { p[1] = -p[1]; }))});
+  f.push_back(
+      {"left-handed annulus",
+       Volume(test::annulus_sector(1.0, 2.0, 0.7).spline().transformed([](std::span<double> p) { p[1] = -p[1]; }))});
   return f;
 }
 
@@ -49,8 +50,9 @@ TEST(Inverse, GlobalRoundTripsOnRegularVolumes) {
       const Vec3 x = f.volume.evaluate(t);
       const GlobalResult r = solver.solve(x);
       if (r.status != GlobalStatus::kUnique || r.preimages.size() != 1) {
-        if (++failures < 5) ADD_FAILURE() << "status " << to_string(r.status) << " with " << r.preimages.size()
-                                          << " preimages at t = " << t.x << " " << t.y << " " << t.z;
+        if (++failures < 5)
+          ADD_FAILURE() << "status " << to_string(r.status) << " with " << r.preimages.size()
+                        << " preimages at t = " << t.x << " " << t.y << " " << t.z;
         continue;
       }
       const Preimage& p = r.preimages[0];
@@ -83,8 +85,8 @@ TEST(Inverse, PointsOutsideAreReportedOutside) {
   const Volume v = test::annulus_sector(1.0, 2.0, 0.7);
   const GlobalSolver solver(v);
   // Inside the hole of the annulus, beyond its outer radius, above it, far away.
-  for (Vec3 x : {Vec3{0.3, 0.3, 0.3}, Vec3{0.7, 0.7, 0.35}, Vec3{1.5, 1.5, 0.35}, Vec3{1.2, 1.0, 0.8},
-                 Vec3{100, 0, 0}, Vec3{-0.5, 1.5, 0.2}}) {
+  for (Vec3 x : {Vec3{0.3, 0.3, 0.3}, Vec3{0.7, 0.7, 0.35}, Vec3{1.5, 1.5, 0.35}, Vec3{1.2, 1.0, 0.8}, Vec3{100, 0, 0},
+                 Vec3{-0.5, 1.5, 0.2}}) {
     const GlobalResult r = solver.solve(x);
     EXPECT_EQ(r.status, GlobalStatus::kNone) << x.x << " " << x.y << " " << x.z;
     EXPECT_TRUE(r.preimages.empty());

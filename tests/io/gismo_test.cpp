@@ -141,8 +141,8 @@ TEST(GismoReader, MultiPatchIdRangeWithDuplicateIdsIsRejected) {
   <Basis type="BSplineBasis"><KnotVector degree="1">0 0 1 1</KnotVector></Basis>
   <coefs geoDim="1">0 1</coefs>
  </Geometry>)";
-  const std::string text = "<xml>" + geometry + geometry +
-                           "\n <MultiPatch><patches type=\"id_range\">1 1</patches></MultiPatch>\n</xml>\n";
+  const std::string text =
+      "<xml>" + geometry + geometry + "\n <MultiPatch><patches type=\"id_range\">1 1</patches></MultiPatch>\n</xml>\n";
   try {
     read_gismo_xml(text, "dup.xml");
     FAIL() << "two Geometry elements with the listed id were accepted";
@@ -172,7 +172,9 @@ TEST(GismoReader, NurbsBasisLabelDimensionIsNotTrusted) {
   EXPECT_EQ(read_gismo_xml(text, "label.xml").patches[0].spline.param_dim(), 2);
 }
 
-std::vector<std::uint8_t> bytes(const char* s) { return std::vector<std::uint8_t>(s, s + std::char_traits<char>::length(s)); }
+std::vector<std::uint8_t> bytes(const char* s) {
+  return std::vector<std::uint8_t>(s, s + std::char_traits<char>::length(s));
+}
 
 TEST(GismoBase64, DecodesPaddedTextIgnoringBlanks) {
   std::vector<std::uint8_t> out;
@@ -190,10 +192,10 @@ TEST(GismoBase64, DecodesPaddedTextIgnoringBlanks) {
 TEST(GismoBase64, RejectsMalformedText) {
   std::vector<std::uint8_t> out;
   std::string error;
-  EXPECT_FALSE(io_detail::decode_base64("TQ=", out, error));   // length not a multiple of 4
-  EXPECT_FALSE(io_detail::decode_base64("T===", out, error));  // too much padding
+  EXPECT_FALSE(io_detail::decode_base64("TQ=", out, error));       // length not a multiple of 4
+  EXPECT_FALSE(io_detail::decode_base64("T===", out, error));      // too much padding
   EXPECT_FALSE(io_detail::decode_base64("TQ==TWFu", out, error));  // data after padding
-  EXPECT_FALSE(io_detail::decode_base64("TW-u", out, error));  // '-' is base64url, not base64
+  EXPECT_FALSE(io_detail::decode_base64("TW-u", out, error));      // '-' is base64url, not base64
   EXPECT_NE(error.find("'-'"), std::string::npos) << error;
 }
 

@@ -18,8 +18,8 @@ std::string square_model(const std::string& loop = "1 2 3 4", const std::string&
   };
   return "[OBJECT SQUARE\n  [MODEL 1 4\n    [MDLTSRF 1\n"
          "      [SURFACE BSPLINE 2 2 2 2 E3 [KV 0 0 1 1] [KV 0 0 1 1] [0 0 0] [1 0 0] [0 1 0] [1 1 0]]\n"
-         "      [MDLLOOP " + loop + "]\n    ]\n" +
-         seg("1 1 0", 0.25, 0.25, 0.75, 0.25) + seg(segment2, 0.75, 0.25, 0.75, 0.75) +
+         "      [MDLLOOP " +
+         loop + "]\n    ]\n" + seg("1 1 0", 0.25, 0.25, 0.75, 0.25) + seg(segment2, 0.75, 0.25, 0.75, 0.75) +
          seg("1 1 0", 0.75, 0.75, 0.25, 0.75) + seg("1 1 0", 0.25, 0.75, 0.25, 0.25) + "  ]\n]\n";
 }
 
@@ -74,8 +74,7 @@ TEST(ItdModel, TeapotModelFromSharedData) {
   ASSERT_EQ(t.segments.size(), 15u);
   EXPECT_EQ(m.patches.size(), 6u);
   // The body: two holes (handle ends) and the outer loop that runs along its seam.
-  EXPECT_EQ(t.surfaces[0].loops,
-            (std::vector<std::vector<int>>{{4}, {5}, {8, -7, 9, -2, 10, -6, 11, 3}}));
+  EXPECT_EQ(t.surfaces[0].loops, (std::vector<std::vector<int>>{{4}, {5}, {8, -7, 9, -2, 10, -6, 11, 3}}));
   // Segment 1 joins the spout and its cap; segment 8 is a seam of the body only.
   EXPECT_EQ(t.segments[0].surfaces, (std::vector<int>{1, 5}));
   EXPECT_EQ(t.segments[0].curves.size(), 2u);

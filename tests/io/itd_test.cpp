@@ -117,9 +117,10 @@ TEST(ItdReader, ReadsGeometryAndSkipsEverythingElse) {
 }
 
 TEST(ItdReader, KeywordsAreCaseInsensitiveAndGeometryMayStandAlone) {
-  const Model m = read_itd("[curve bezier 2 e1 [0] [1]]\n[object Low [surface bspline 2 2 2 2 p1\n"
-                           "  [kv 0 0 1 1] [kvp 0 1 2 3 4]\n  [1 0] [1 1] [2 2] [2 4]]]\n",
-                           "lower.itd");
+  const Model m = read_itd(
+      "[curve bezier 2 e1 [0] [1]]\n[object Low [surface bspline 2 2 2 2 p1\n"
+      "  [kv 0 0 1 1] [kvp 0 1 2 3 4]\n  [1 0] [1 1] [2 2] [2 4]]]\n",
+      "lower.itd");
   ASSERT_EQ(m.patches.size(), 2u);
   EXPECT_EQ(m.patches[0].name, "patch");
   EXPECT_EQ(m.patches[1].name, "Low");
@@ -216,7 +217,7 @@ TEST(ItdModelFile, ReadModelPicksTheReaderByExtensionThenContent) {
     return dir / name;
   };
   EXPECT_EQ(read_model(write("a.ITD", itd)).patches[0].name, "C");
-  EXPECT_EQ(read_model(write("b.dat", itd)).patches[0].name, "C");           // sniffed: '['
+  EXPECT_EQ(read_model(write("b.dat", itd)).patches[0].name, "C");                 // sniffed: '['
   EXPECT_EQ(read_model(write("c.gismo", xml)).patches[0].name, "Geometry id=12");  // sniffed: '<'
   EXPECT_EQ(read_model(write("d.xml", xml)).source, (dir / "d.xml").string());
   fs::remove_all(dir);

@@ -107,8 +107,8 @@ Box3 sampled_box(const Volume& v) {
       for (int i = 0; i < n; ++i) {
         const Vec3 t{static_cast<double>(i) / (n - 1), static_cast<double>(j) / (n - 1),
                      static_cast<double>(k) / (n - 1)};
-        box.expand(v.evaluate({d.lo.x + t.x * (d.hi.x - d.lo.x), d.lo.y + t.y * (d.hi.y - d.lo.y),
-                               d.lo.z + t.z * (d.hi.z - d.lo.z)}));
+        box.expand(v.evaluate(
+            {d.lo.x + t.x * (d.hi.x - d.lo.x), d.lo.y + t.y * (d.hi.y - d.lo.y), d.lo.z + t.z * (d.hi.z - d.lo.z)}));
       }
   return box;
 }
@@ -123,8 +123,7 @@ double box_tolerance(const std::string& file) {
 
 void expect_box_size(const Vec3& size, const std::array<double, 3>& want, double relative) {
   const double tol = relative * std::max({want[0], want[1], want[2]});
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(size[c], want[static_cast<std::size_t>(c)], tol) << "bbox axis " << c;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(size[c], want[static_cast<std::size_t>(c)], tol) << "bbox axis " << c;
 }
 
 int jacobian_column(JacobianClass c) {
@@ -239,9 +238,9 @@ TEST_F(SharedData, ThbCubeIsReportedAsUnsupported) {
 
 TEST_F(SharedData, SurfaceFilesRead) {
   const std::map<std::string, std::size_t> expected_patches = {
-      {"surfaces/duck_brep.xml", 6},         {"surfaces/lamp.xml", 9},
-      {"surfaces/solid_sp2.xml", 48},        {"surfaces/teapot_bezier_patches.xml", 32},
-      {"surfaces/teapot_irit.itd", 4},       {"surfaces/teapot_trimmed_model.itd", 6},
+      {"surfaces/duck_brep.xml", 6},   {"surfaces/lamp.xml", 9},
+      {"surfaces/solid_sp2.xml", 48},  {"surfaces/teapot_bezier_patches.xml", 32},
+      {"surfaces/teapot_irit.itd", 4}, {"surfaces/teapot_trimmed_model.itd", 6},
   };
   const std::vector<fs::path> files = model_files(data_ / "surfaces");
   ASSERT_EQ(files.size(), expected_patches.size());

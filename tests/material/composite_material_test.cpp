@@ -29,9 +29,9 @@ void expect_near(const std::vector<float>& got, const std::vector<float>& want) 
 
 TEST(CompositeMaterial, BlendInterpolatesByTheClampedWeight) {
   const BlendMaterial blend(constant({1.0f, 0.0f}), constant({0.2f, 0.6f}), scalar("2 * u - 0.5"));
-  expect_near(test::eval_one(blend, {0.5, 0, 0}), {0.6f, 0.3f});  // t = 0.5
-  expect_near(test::eval_one(blend, {0.0, 0, 0}), {1.0f, 0.0f});  // t = -0.5 -> 0
-  expect_near(test::eval_one(blend, {1.0, 0, 0}), {0.2f, 0.6f});  // t = 1.5 -> 1
+  expect_near(test::eval_one(blend, {0.5, 0, 0}), {0.6f, 0.3f});     // t = 0.5
+  expect_near(test::eval_one(blend, {0.0, 0, 0}), {1.0f, 0.0f});     // t = -0.5 -> 0
+  expect_near(test::eval_one(blend, {1.0, 0, 0}), {0.2f, 0.6f});     // t = 1.5 -> 1
   expect_near(test::eval_one(blend, {0.375, 0, 0}), {0.8f, 0.15f});  // t = 0.25
   EXPECT_THROW(BlendMaterial(constant({1.0f}), constant({0.2f, 0.6f}), scalar("u")), Error);
   EXPECT_THROW(BlendMaterial(constant({1.0f}), constant({0.2f}), constant({0.5f, 0.5f})), Error);

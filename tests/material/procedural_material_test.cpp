@@ -33,7 +33,8 @@ double sampled_void_fraction(const PorousTilesMaterial& f, const ParamBox& tile,
       f.evaluate_row(row, xyz, out);
       for (std::size_t s = 0; s < row.size(); ++s) {
         float sum = 0;
-        for (int m = 0; m < f.num_materials(); ++m) sum += out[s * static_cast<std::size_t>(f.num_materials()) + static_cast<std::size_t>(m)];
+        for (int m = 0; m < f.num_materials(); ++m)
+          sum += out[s * static_cast<std::size_t>(f.num_materials()) + static_cast<std::size_t>(m)];
         if (sum == 0.0f) ++empty;
       }
     }

@@ -93,9 +93,9 @@ TEST(MaterialSplineField, RationalFieldAndVoidComponent) {
 
 TEST(MaterialSplineField, RejectsBadComponentMaps) {
   const double a[8] = {0, 1, 0, 1, 0, 1, 0, 1};
-  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0}, 2, kUnit), Error);      // count
-  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0, 0}, 2, kUnit), Error);   // twice
-  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0, 2}, 2, kUnit), Error);   // range
+  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0}, 2, kUnit), Error);     // count
+  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0, 0}, 2, kUnit), Error);  // twice
+  EXPECT_THROW(SplineFieldMaterial(trilinear_field(a, a), {0, 2}, 2, kUnit), Error);  // range
   const TensorSpline surface({KnotVector::bezier(2), KnotVector::bezier(2)}, 1, {0, 1, 0, 1});
   EXPECT_THROW(SplineFieldMaterial(surface, {0}, 1, kUnit), Error);
 }
@@ -111,10 +111,7 @@ TensorSpline linear_in_w(double s0, double s1) {
 TEST(MaterialScalarGradient, InterpolatesBetweenStopsAndClampsAtTheEnds) {
   // s = w in [0, 1]; stops: 0.2 -> A, 0.6 -> half A half B, 1.0 -> B... with a step at 0.8.
   const ScalarGradientMaterial f(linear_in_w(0.0, 1.0),
-                                 {{0.2, {1.0f, 0.0f}},
-                                  {0.6, {0.5f, 0.5f}},
-                                  {0.8, {0.0f, 0.5f}},
-                                  {0.8, {0.0f, 1.0f}}},
+                                 {{0.2, {1.0f, 0.0f}}, {0.6, {0.5f, 0.5f}}, {0.8, {0.0f, 0.5f}}, {0.8, {0.0f, 1.0f}}},
                                  kUnit);
   auto at = [&](double w) { return eval_one(f, {0.3, 0.7, w}); };
   EXPECT_EQ(at(0.0), (std::vector<float>{1.0f, 0.0f}));  // below the first stop

@@ -82,7 +82,7 @@ TEST(VolumeTexture, SamplingByHand) {
   TextureSampling repeat;
   repeat.wrap = {TextureWrap::kRepeat, TextureWrap::kClamp, TextureWrap::kClamp};
   const VolumeTexture r(im, repeat);
-  EXPECT_FLOAT_EQ(sample1(r, {0.0, 0.5, 0.5}), 0.5f);   // halfway between the last and the first
+  EXPECT_FLOAT_EQ(sample1(r, {0.0, 0.5, 0.5}), 0.5f);     // halfway between the last and the first
   EXPECT_FLOAT_EQ(sample1(r, {0.125, 0.5, 0.5}), 0.25f);  // s = -0.25: 0.25 of sample 1, 0.75 of sample 0
   TextureSampling mirror = repeat;
   mirror.wrap[0] = TextureWrap::kMirror;
@@ -146,7 +146,8 @@ TEST(VolumeImageFiles, RawByTypeAndByteOrder) {
   std::string bytes(8, '\0');
   std::memcpy(bytes.data(), values, 8);  // the test machine's order: little-endian
   write_bytes(f32, bytes);
-  EXPECT_EQ(read_raw_volume(f32, {2, 1, 1, 1, RawSampleType::kFloat32, false}).values, (std::vector<float>{0.75f, -2.5f}));
+  EXPECT_EQ(read_raw_volume(f32, {2, 1, 1, 1, RawSampleType::kFloat32, false}).values,
+            (std::vector<float>{0.75f, -2.5f}));
 
   try {
     read_raw_volume(u8, {2, 2, 2, 1, RawSampleType::kUint8, false});

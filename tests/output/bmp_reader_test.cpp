@@ -18,7 +18,8 @@ namespace {
 std::vector<std::uint8_t> pattern(int w, int h) {
   std::vector<std::uint8_t> bits(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) bits[static_cast<std::size_t>(y * w + x)] = static_cast<std::uint8_t>((x * 3 + y * 5 + x * y) % 7 < 3);
+    for (int x = 0; x < w; ++x)
+      bits[static_cast<std::size_t>(y * w + x)] = static_cast<std::uint8_t>((x * 3 + y * 5 + x * y) % 7 < 3);
   return bits;
 }
 
@@ -47,7 +48,9 @@ TEST(BmpReader, ReadsTopDownRows) {
   std::string flipped = bmp.substr(0, offset);
   for (int row = h - 1; row >= 0; --row) flipped += bmp.substr(offset + static_cast<std::size_t>(row) * stride, stride);
   const std::int32_t negative = -h;
-  for (int i = 0; i < 4; ++i) flipped[22 + static_cast<std::size_t>(i)] = static_cast<char>((static_cast<std::uint32_t>(negative) >> (8 * i)) & 0xff);
+  for (int i = 0; i < 4; ++i)
+    flipped[22 + static_cast<std::size_t>(i)] =
+        static_cast<char>((static_cast<std::uint32_t>(negative) >> (8 * i)) & 0xff);
   EXPECT_EQ(decode_bmp1(flipped, "top-down.bmp").bits, bits);
 }
 

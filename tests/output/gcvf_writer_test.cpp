@@ -185,7 +185,9 @@ TEST(ZipWriter, ClassicAndZip64ArchivesReadBackInOrder) {
   for (const std::uint64_t zip64_from : {std::uint64_t{0xFFFFFFFFu}, std::uint64_t{0}}) {
     const fs::path path = fs::temp_directory_path() / fmt::format("trivox-zip-test-{}-{}.zip", ::getpid(), zip64_from);
     const std::vector<std::pair<std::string, std::string>> files = {
-        {"a.png", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(1000, '\x07')}, {"dir/empty.txt", ""}, {"b.xml", "<x/>\n"}};
+        {"a.png", std::string("\x89PNG\r\n\x1a\n", 8) + std::string(1000, '\x07')},
+        {"dir/empty.txt", ""},
+        {"b.xml", "<x/>\n"}};
     {
       AtomicFile out(path);
       detail::ZipWriter zip(out.file(), path.string(), zip64_from);

@@ -38,8 +38,8 @@ Bmp1 decode_bmp1(const std::string& b) {
   EXPECT_EQ(b.substr(0, 2), "BM");
   EXPECT_EQ(le(2, 4), b.size());
   EXPECT_EQ(le(14, 4), 40u);
-  EXPECT_EQ(le(28, 2), 1u);  // bits per pixel
-  EXPECT_EQ(le(30, 4), 0u);  // uncompressed
+  EXPECT_EQ(le(28, 2), 1u);                         // bits per pixel
+  EXPECT_EQ(le(30, 4), 0u);                         // uncompressed
   EXPECT_EQ(le(54 + 4, 4) & 0xffffffu, 0xffffffu);  // palette entry 1 is white
   Bmp1 img;
   img.width = static_cast<int>(le(18, 4));
@@ -77,7 +77,8 @@ TEST(LegacyBitmapWriter, BitmapsMatchTheRgbaLayersAndTheTextListsThem) {
       ASSERT_EQ(bmp.height, rgba.height_px);
       for (std::size_t px = 0; px < bmp.bits.size(); ++px) {
         const bool is_material = std::equal(scene.materials[static_cast<std::size_t>(j)].rgba.begin(),
-                                            scene.materials[static_cast<std::size_t>(j)].rgba.end(), rgba.rgba.begin() + static_cast<std::ptrdiff_t>(4 * px));
+                                            scene.materials[static_cast<std::size_t>(j)].rgba.end(),
+                                            rgba.rgba.begin() + static_cast<std::ptrdiff_t>(4 * px));
         ASSERT_EQ(bmp.bits[px] == 1, is_material) << "layer " << i << " material " << j << " pixel " << px;
         material_pixels += bmp.bits[px];
       }

@@ -12,8 +12,8 @@
 #include <fstream>
 #include <iterator>
 #include <numeric>
-#include <span>
 #include <random>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,8 +29,7 @@ class PngTest : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("trivox_png_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("trivox_png_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -42,8 +41,7 @@ class PngTest : public ::testing::Test {
 
   std::vector<std::string> entries() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_))
-      names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
     return names;
   }
 
@@ -57,13 +55,12 @@ std::vector<std::uint8_t> file_bytes(const fs::path& path) {
 
 void write_bytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary);
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
 }
 
 std::uint32_t big_endian32(const std::vector<std::uint8_t>& b, std::size_t at) {
-  return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) |
-         (std::uint32_t{b[at + 2]} << 8) | std::uint32_t{b[at + 3]};
+  return (std::uint32_t{b[at]} << 24) | (std::uint32_t{b[at + 1]} << 16) | (std::uint32_t{b[at + 2]} << 8) |
+         std::uint32_t{b[at + 3]};
 }
 
 // The IHDR chunk, which the PNG specification puts first, right after the signature.
@@ -102,8 +99,7 @@ std::uint32_t crc32(const std::uint8_t* p, std::size_t n) {
 void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int s = 24; s >= 0; s -= 8) out.push_back(static_cast<std::uint8_t>(v >> s));
 }
-void put_chunk(std::vector<std::uint8_t>& out, const char* type,
-               const std::vector<std::uint8_t>& data) {
+void put_chunk(std::vector<std::uint8_t>& out, const char* type, const std::vector<std::uint8_t>& data) {
   put32(out, static_cast<std::uint32_t>(data.size()));
   const std::size_t start = out.size();
   out.insert(out.end(), type, type + 4);
@@ -111,24 +107,23 @@ void put_chunk(std::vector<std::uint8_t>& out, const char* type,
   put32(out, crc32(out.data() + start, out.size() - start));
 }
 // `filtered`: the scanlines, each already prefixed by its filter byte (0 here).
-std::vector<std::uint8_t> make_png(std::uint32_t w, std::uint32_t h, int bit_depth, int color_type,
-                                   int interlace, const std::vector<std::uint8_t>& filtered,
+std::vector<std::uint8_t> make_png(std::uint32_t w, std::uint32_t h, int bit_depth, int color_type, int interlace,
+                                   const std::vector<std::uint8_t>& filtered,
                                    const std::vector<std::uint8_t>& plte = {},
                                    const std::vector<std::uint8_t>& trns = {}) {
   std::vector<std::uint8_t> png{137, 80, 78, 71, 13, 10, 26, 10};
   std::vector<std::uint8_t> ihdr;
   put32(ihdr, w);
   put32(ihdr, h);
-  ihdr.insert(ihdr.end(),
-              {static_cast<std::uint8_t>(bit_depth), static_cast<std::uint8_t>(color_type), 0, 0,
-               static_cast<std::uint8_t>(interlace)});
+  ihdr.insert(ihdr.end(), {static_cast<std::uint8_t>(bit_depth), static_cast<std::uint8_t>(color_type), 0, 0,
+                           static_cast<std::uint8_t>(interlace)});
   put_chunk(png, "IHDR", ihdr);
   if (!plte.empty()) put_chunk(png, "PLTE", plte);
   if (!trns.empty()) put_chunk(png, "tRNS", trns);
   std::vector<std::uint8_t> z{0x78, 0x01, 0x01};  // zlib header; one final stored block
   const auto n = static_cast<std::uint16_t>(filtered.size());
-  z.insert(z.end(), {static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(n >> 8),
-                     static_cast<std::uint8_t>(~n), static_cast<std::uint8_t>(~n >> 8)});
+  z.insert(z.end(), {static_cast<std::uint8_t>(n), static_cast<std::uint8_t>(n >> 8), static_cast<std::uint8_t>(~n),
+                     static_cast<std::uint8_t>(~n >> 8)});
   z.insert(z.end(), filtered.begin(), filtered.end());
   std::uint32_t a = 1, b = 0;  // Adler-32
   for (std::uint8_t byte : filtered) {
@@ -171,8 +166,7 @@ TEST_F(PngTest, Gray8RoundTrip) {
   ASSERT_EQ(back.height_px, 11);
   for (std::size_t i = 0; i < gray.size(); ++i) {
     const std::array<std::uint8_t, 4> expected{gray[i], gray[i], gray[i], 255};
-    ASSERT_TRUE(std::equal(expected.begin(), expected.end(),
-                           back.rgba.begin() + 4 * static_cast<std::ptrdiff_t>(i)))
+    ASSERT_TRUE(std::equal(expected.begin(), expected.end(), back.rgba.begin() + 4 * static_cast<std::ptrdiff_t>(i)))
         << "pixel " << i;
   }
 }
@@ -244,8 +238,8 @@ TEST_F(PngTest, IndexedRefusesABadPaletteOrIndex) {
 TEST_F(PngTest, EveryLevelAndFilterRoundTrips) {
   const RgbaImage image{41, 9, random_bytes(41 * 9 * 4, 5)};
   for (int level = 0; level <= 9; ++level) {
-    for (PngFilter filter : {PngFilter::kNone, PngFilter::kSub, PngFilter::kUp, PngFilter::kAverage,
-                             PngFilter::kPaeth, PngFilter::kAdaptive}) {
+    for (PngFilter filter : {PngFilter::kNone, PngFilter::kSub, PngFilter::kUp, PngFilter::kAverage, PngFilter::kPaeth,
+                             PngFilter::kAdaptive}) {
       const fs::path path = dir_ / "a.png";
       write_png_rgba(path, image, PngWriteParams{level, filter});
       ASSERT_EQ(read_png_rgba(path), image) << "level " << level << ", " << to_string(filter);
@@ -256,10 +250,11 @@ TEST_F(PngTest, EveryLevelAndFilterRoundTrips) {
 // Each zlib strategy on a dithered-looking image (few colours in runs) and on noise.
 TEST_F(PngTest, EveryStrategyRoundTrips) {
   std::vector<std::uint8_t> runs(53 * 17 * 4);
-  for (std::size_t i = 0; i < runs.size(); ++i) runs[i] = static_cast<std::uint8_t>(((i / 4) % 7 < 3) ? 255 : 40 + i % 4);
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    runs[i] = static_cast<std::uint8_t>(((i / 4) % 7 < 3) ? 255 : 40 + i % 4);
   for (const RgbaImage& image : {RgbaImage{53, 17, runs}, RgbaImage{53, 17, random_bytes(53 * 17 * 4, 11)}}) {
-    for (PngStrategy strategy : {PngStrategy::kDefault, PngStrategy::kFiltered, PngStrategy::kRle,
-                                 PngStrategy::kHuffmanOnly}) {
+    for (PngStrategy strategy :
+         {PngStrategy::kDefault, PngStrategy::kFiltered, PngStrategy::kRle, PngStrategy::kHuffmanOnly}) {
       for (PngFilter filter : {PngFilter::kNone, PngFilter::kSub, PngFilter::kPaeth}) {
         const fs::path path = dir_ / "a.png";
         write_png_rgba(path, image, PngWriteParams{1, filter, strategy});
@@ -458,9 +453,8 @@ TEST_F(PngTest, ReadsOtherFormatsAsRgba) {
   const std::vector<std::uint8_t> palette_rows{0, 0b00011000, 0, 0b11100100};
   write_bytes(dir_ / "palette.png", make_png(3, 2, 2, 3, 0, palette_rows, plte, {255, 128}));
   const RgbaImage palette = read_png_rgba(dir_ / "palette.png");
-  EXPECT_EQ(palette.rgba,
-            (std::vector<std::uint8_t>{10,  20,  30,  255, 40, 50, 60, 128, 70, 80, 90, 255,
-                                       100, 110, 120, 255, 70, 80, 90, 255, 40, 50, 60, 128}));
+  EXPECT_EQ(palette.rgba, (std::vector<std::uint8_t>{10,  20,  30,  255, 40, 50, 60, 128, 70, 80, 90, 255,
+                                                     100, 110, 120, 255, 70, 80, 90, 255, 40, 50, 60, 128}));
 
   // 16-bit RGB, 1 x 2: samples scaled to 8 bits with rounding (v / 257).
   const std::vector<std::uint8_t> rgb16_rows{0, 0xff, 0xff, 0x80, 0x00, 0x00, 0x00,

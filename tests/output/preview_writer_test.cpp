@@ -44,7 +44,9 @@ JobParams preview_params(const std::string& name, int threads) {
 }
 
 // Nearest-neighbour index at the centre of target sample i of m over n source samples.
-int nearest(int i, int m, int n) { return std::min(n - 1, static_cast<int>((2 * i + 1) * static_cast<std::int64_t>(n) / (2 * m))); }
+int nearest(int i, int m, int n) {
+  return std::min(n - 1, static_cast<int>((2 * i + 1) * static_cast<std::int64_t>(n) / (2 * m)));
+}
 
 TEST(PreviewWriter, CutsMatchTheDecodedStackAndFilesAreListed) {
   const Scene scene = preview_scene();
@@ -74,7 +76,8 @@ TEST(PreviewWriter, CutsMatchTheDecodedStackAndFilesAreListed) {
     for (int x = 0; x < xz.width_px; ++x) {
       const std::size_t src = 4 * (static_cast<std::size_t>(L.height_px / 2) * static_cast<std::size_t>(L.width_px) +
                                    static_cast<std::size_t>(nearest(x, xz.width_px, L.width_px)));
-      const std::size_t dst = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(xz.width_px) + static_cast<std::size_t>(x));
+      const std::size_t dst =
+          4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(xz.width_px) + static_cast<std::size_t>(x));
       for (int c = 0; c < 3; ++c) ASSERT_EQ(xz.rgba[dst + c], layer.rgba[src + c]) << x << "," << y;
       EXPECT_EQ(xz.rgba[dst + 3], 255);
       material_pixels += layer.rgba[src] != 255 || layer.rgba[src + 1] != 255 || layer.rgba[src + 2] != 255;
@@ -86,9 +89,11 @@ TEST(PreviewWriter, CutsMatchTheDecodedStackAndFilesAreListed) {
   const RgbaImage& mid = stack[static_cast<std::size_t>(layers / 2)];
   for (int y = 0; y < xy.height_px; ++y)
     for (int x = 0; x < xy.width_px; ++x) {
-      const std::size_t src = 4 * (static_cast<std::size_t>(nearest(y, xy.height_px, L.height_px)) * static_cast<std::size_t>(L.width_px) +
-                                   static_cast<std::size_t>(nearest(x, xy.width_px, L.width_px)));
-      const std::size_t dst = 4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(xy.width_px) + static_cast<std::size_t>(x));
+      const std::size_t src =
+          4 * (static_cast<std::size_t>(nearest(y, xy.height_px, L.height_px)) * static_cast<std::size_t>(L.width_px) +
+               static_cast<std::size_t>(nearest(x, xy.width_px, L.width_px)));
+      const std::size_t dst =
+          4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(xy.width_px) + static_cast<std::size_t>(x));
       for (int c = 0; c < 3; ++c) ASSERT_EQ(xy.rgba[dst + c], mid.rgba[src + c]);
     }
   const RgbaImage sheet = read_png_rgba(p.output_dir / "preview/contact_sheet.png");

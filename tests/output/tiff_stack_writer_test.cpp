@@ -56,7 +56,8 @@ TEST(TiffStackWriter, PagesAreTheLayersInOrder) {
     for (std::size_t px = 0; px < labels.values().size(); ++px) {
       const std::uint8_t l = labels.values()[px];
       ASSERT_LT(l, palette.size());
-      ASSERT_TRUE(std::equal(palette[l].begin(), palette[l].end(), rgba.rgba.begin() + static_cast<std::ptrdiff_t>(4 * px)))
+      ASSERT_TRUE(
+          std::equal(palette[l].begin(), palette[l].end(), rgba.rgba.begin() + static_cast<std::ptrdiff_t>(4 * px)))
           << "page " << page << " pixel " << px;
       material_pixels += l != 0;
     }

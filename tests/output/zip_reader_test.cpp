@@ -72,7 +72,8 @@ TEST(ZipReader, ReadsDeflatedAndStoredEntriesOfAnotherWriter) {
   const fs::path dir = scratch("python");
   fs::create_directories(dir);
   const Files files = sample_files();
-  for (std::size_t i = 0; i < files.size(); ++i) std::ofstream(dir / fmt::format("a.zip.in{}", i), std::ios::binary) << files[i].second;
+  for (std::size_t i = 0; i < files.size(); ++i)
+    std::ofstream(dir / fmt::format("a.zip.in{}", i), std::ios::binary) << files[i].second;
   // Every other entry deflated; a comment after the end record, as some tools write.
   std::ofstream(dir / "make.py") << "import sys, zipfile\n"
                                     "names = sys.argv[2:]\n"

@@ -17,10 +17,9 @@ TEST(PrinterProfileTest, BuiltinsCarryThePublishedValues) {
     double layer_thickness_mm;
     int max_materials;
   };
-  for (const Expected& e :
-       {Expected{"j750-hq", 0.014, 6}, Expected{"j850-hq", 0.014, 6}, Expected{"j750-hm", 0.027, 6},
-        Expected{"j850-hm", 0.027, 6}, Expected{"j750-hs", 0.027, 3}, Expected{"j850-hs", 0.027, 3},
-        Expected{"j750-paper", 0.030, 6}}) {
+  for (const Expected& e : {Expected{"j750-hq", 0.014, 6}, Expected{"j850-hq", 0.014, 6}, Expected{"j750-hm", 0.027, 6},
+                            Expected{"j850-hm", 0.027, 6}, Expected{"j750-hs", 0.027, 3}, Expected{"j850-hs", 0.027, 3},
+                            Expected{"j750-paper", 0.030, 6}}) {
     const PrinterProfile p = builtin_printer_profile(e.name);
     EXPECT_EQ(p.name, e.name);
     EXPECT_EQ(p.x_dpi, 600.0) << e.name;

@@ -27,8 +27,7 @@ struct ReferenceResult {
   std::int64_t max_abs_error = 0;  // largest |error| component emitted, fixed-point units
 };
 
-ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& inside,
-                                 bool serpentine,
+ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& inside, bool serpentine,
                                  DiffusionKernel kernel = DiffusionKernel::kFloydSteinberg,
                                  detail::ScanOrientation orientation = {}) {
   const int w = grid.width_px();
@@ -70,8 +69,7 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
       }
       result.labels.at(x, y) = static_cast<std::uint8_t>(best);
       desired[static_cast<std::size_t>(best)] -= kDitherFixedOne;
-      for (std::int64_t e : desired)
-        result.max_abs_error = std::max(result.max_abs_error, std::abs(e));
+      for (std::int64_t e : desired) result.max_abs_error = std::max(result.max_abs_error, std::abs(e));
 
       struct Receiver {
         int x, y;
@@ -107,8 +105,7 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
 // Blue-noise thresholding the slow way: the threshold as the exact rational (rank + 1/2) /
 // 4096, compared with running sums of the fractions (rounded to the same fixed-point grid
 // as the input of every method) scaled to the same denominator.
-LabelImage reference_blue_noise(const MaterialGrid& grid, const InsideMask& inside, int layer,
-                                bool vary) {
+LabelImage reference_blue_noise(const MaterialGrid& grid, const InsideMask& inside, int layer, bool vary) {
   const auto& tile = blue_noise_tile();
   const int m = grid.num_materials();
   const detail::TileOffset off = detail::tile_offset(layer, vary);
@@ -157,8 +154,8 @@ std::vector<DitherParams> every_method() {
 }
 
 std::string describe(const DitherParams& p, int layer) {
-  return std::string(dither_method_name(p)) + (p.vary_by_layer ? " varied" : " fixed") +
-         " layer " + std::to_string(layer);
+  return std::string(dither_method_name(p)) + (p.vary_by_layer ? " varied" : " fixed") + " layer " +
+         std::to_string(layer);
 }
 
 // ---- fixtures ----------------------------------------------------------------------------
@@ -182,10 +179,9 @@ MaterialGrid random_grid(std::mt19937& rng, int w, int h, int m) {
       float total = 1.0f;
       if (style == 0) {  // smooth
         for (int k = 0; k < m; ++k) {
-          raw[static_cast<std::size_t>(k)] =
-              1.0f + std::sin(0.11f * static_cast<float>(x) +
-                              0.07f * static_cast<float>(y) * static_cast<float>(k + 1) +
-                              phase[static_cast<std::size_t>(k)]);
+          raw[static_cast<std::size_t>(k)] = 1.0f + std::sin(0.11f * static_cast<float>(x) +
+                                                             0.07f * static_cast<float>(y) * static_cast<float>(k + 1) +
+                                                             phase[static_cast<std::size_t>(k)]);
         }
         total = 0.5f + 0.5f * std::cos(0.05f * static_cast<float>(x + y));
       } else if (style == 1) {  // noise
@@ -264,11 +260,10 @@ TEST(DitherTest, MatchesReferenceBitForBit) {
     params.kernel = static_cast<DiffusionKernel>(trial % 3);
     const int layer = (trial / 2) % 5;
     const LabelImage fast = dither(grid, mask, params, layer);
-    const ReferenceResult ref =
-        reference_dither(grid, mask, params.serpentine, params.kernel,
-                         detail::scan_orientation(layer, params.vary_by_layer));
-    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m
-                                << ", " << describe(params, layer);
+    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine, params.kernel,
+                                                 detail::scan_orientation(layer, params.vary_by_layer));
+    ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m << ", "
+                                << describe(params, layer);
     worst_error = std::max(worst_error, ref.max_abs_error);
   }
   // The fast version keeps errors in int32 (32768 units of kDitherFixedOne): far away.
@@ -349,8 +344,7 @@ TEST(DitherTest, BlueNoiseMatchesReference) {
     params.method = DitherMethod::kBlueNoise;
     params.vary_by_layer = trial % 2 == 0;
     const int layer = uniform_int(rng, 0, 200);
-    ASSERT_EQ(dither(grid, mask, params, layer),
-              reference_blue_noise(grid, mask, layer, params.vary_by_layer))
+    ASSERT_EQ(dither(grid, mask, params, layer), reference_blue_noise(grid, mask, layer, params.vary_by_layer))
         << "trial " << trial << ": " << describe(params, layer);
   }
 }
@@ -455,7 +449,9 @@ TEST(DitherTest, LayerVariationChangesThePattern) {
       EXPECT_NEAR(share(layers.back(), 0, 0, 96, 64, 2), 0.45, 0.01) << name;
     }
     for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b) EXPECT_NE(layers[static_cast<std::size_t>(a)], layers[static_cast<std::size_t>(b)]) << name << " layers " << a << ", " << b;
+      for (int b = a + 1; b < 4; ++b)
+        EXPECT_NE(layers[static_cast<std::size_t>(a)], layers[static_cast<std::size_t>(b)])
+            << name << " layers " << a << ", " << b;
   }
 }
 
@@ -603,7 +599,8 @@ TEST(DitherTest, MaskedPixelsStayBackground) {
     const LabelImage labels = dither(grid, mask, params, 3);
     for (int y = 0; y < 60; ++y) {
       for (int x = 0; x < 80; ++x) {
-        ASSERT_EQ(labels.at(x, y), mask.inside(x, y) ? 1 : LabelImage::kVoid) << x << ", " << y << ", " << describe(params, 3);
+        ASSERT_EQ(labels.at(x, y), mask.inside(x, y) ? 1 : LabelImage::kVoid)
+            << x << ", " << y << ", " << describe(params, 3);
       }
     }
   }

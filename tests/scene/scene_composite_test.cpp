@@ -27,7 +27,8 @@ ordered_json scene_with(const ordered_json& material) {
            {{{"geometry",
               {{"orders", {2, 2, 2}},
                {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
-               {"points", {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}, {0, 0, 10}, {10, 0, 10}, {0, 10, 10}, {10, 10, 10}}}}},
+               {"points",
+                {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {10, 10, 0}, {0, 0, 10}, {10, 0, 10}, {0, 10, 10}, {10, 10, 10}}}}},
              {"material", material}}}}};
 }
 
@@ -61,16 +62,17 @@ TEST(SceneTextures, RawPngAndChannels) {
   // A stack of two 1 x 1 PNG slices: red/green channels are A/B; slice 0 below w = 1/2.
   write_png_rgba(dir / "z0.png", 1, 1, std::vector<std::uint8_t>{255, 0, 0, 255});
   write_png_rgba(dir / "z1.png", 1, 1, std::vector<std::uint8_t>{51, 204, 0, 255});
-  const ordered_json png = {{"kind", "texture"},
-                            {"image", {{"png", {"z0.png", "z1.png"}}}},
-                            {"filter", "nearest"},
-                            {"channels", {"A", "B"}}};
+  const ordered_json png = {
+      {"kind", "texture"}, {"image", {{"png", {"z0.png", "z1.png"}}}}, {"filter", "nearest"}, {"channels", {"A", "B"}}};
   const Scene b = parse_scene(scene_with(png).dump(), dir / "scene.json");
   expect_near(at(b, {0.5, 0.5, 0.25}), {1.0f, 0.0f});
   expect_near(at(b, {0.5, 0.5, 0.75}), {0.2f, 0.8f});
 
   // One PNG: a 2D texture over (u, v), the same at every w.
-  const ordered_json flat = {{"kind", "texture"}, {"image", {{"png", "z1.png"}}}, {"wrap", "repeat"}, {"repeats", 3},
+  const ordered_json flat = {{"kind", "texture"},
+                             {"image", {{"png", "z1.png"}}},
+                             {"wrap", "repeat"},
+                             {"repeats", 3},
                              {"channels", {"A", "B"}}};
   const Scene c = parse_scene(scene_with(flat).dump(), dir / "scene.json");
   for (double w : {0.0, 0.5, 1.0}) expect_near(at(c, {0.3, 0.7, w}), {0.2f, 0.8f});
@@ -106,16 +108,19 @@ TEST(SceneComposition, EveryRuleFromTheSceneFile) {
   write_raw(dir);
   const ordered_json a_only = {{"kind", "constant"}, {"fractions", {{"A", 1}}}};
   const ordered_json b_half = {{"kind", "constant"}, {"fractions", {{"B", 0.5}}}};
-  const ordered_json field2 = {{"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{1, 0}, {0, 1}}}};
+  const ordered_json field2 = {
+      {"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{1, 0}, {0, 1}}}};
 
   // blend: weight = component 1 of a vector field, linear in u.
   const Scene blend = parse_scene(
-      scene_with({{"kind", "blend"}, {"a", "A"}, {"b", b_half}, {"weight", {{"field", field2}, {"component", 1}}}}).dump(),
+      scene_with({{"kind", "blend"}, {"a", "A"}, {"b", b_half}, {"weight", {{"field", field2}, {"component", 1}}}})
+          .dump(),
       dir / "s.json");
   expect_near(at(blend, {0.25, 0, 0}), {0.75f, 0.125f});
 
   // transfer from the magnitude of a vector field: |(3u, 4u)| = 5u.
-  const ordered_json field34 = {{"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{0, 0}, {3, 4}}}};
+  const ordered_json field34 = {
+      {"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{0, 0}, {3, 4}}}};
   const Scene magnitude = parse_scene(
       scene_with({{"kind", "transfer"},
                   {"source", {{"field", field34}, {"magnitude", true}}},
@@ -147,29 +152,35 @@ TEST(SceneComposition, EveryRuleFromTheSceneFile) {
   expect_near(at(threshold, {0.8, 0.5, 0.5}), {0.0f, 1.0f});
 
   // select by region, with void outside.
-  const Scene select = parse_scene(
-      scene_with({{"kind", "select"},
-                  {"regions", {{{"box", {{"lo", {0, 0, 0}}, {"hi", {0.5, 1, 1}}}}, {"material", "A"}}}},
-                  {"otherwise", "void"}})
-          .dump(),
-      dir / "s.json");
+  const Scene select =
+      parse_scene(scene_with({{"kind", "select"},
+                              {"regions", {{{"box", {{"lo", {0, 0, 0}}, {"hi", {0.5, 1, 1}}}}, {"material", "A"}}}},
+                              {"otherwise", "void"}})
+                      .dump(),
+                  dir / "s.json");
   expect_near(at(select, {0.4, 0.9, 0.9}), {1.0f, 0.0f});
   expect_near(at(select, {0.6, 0.9, 0.9}), {0.0f, 0.0f});
 
   // void mask: porosity from an expression.
-  const Scene mask = parse_scene(scene_with({{"kind", "void_mask"}, {"material", "B"}, {"void", "w"}}).dump(), dir / "s.json");
+  const Scene mask =
+      parse_scene(scene_with({{"kind", "void_mask"}, {"material", "B"}, {"void", "w"}}).dump(), dir / "s.json");
   expect_near(at(mask, {0, 0, 0.25}), {0.0f, 0.75f});
 
   // Nesting: a blend of a texture and a select.
-  const Scene nested = parse_scene(
-      scene_with({{"kind", "blend"},
-                  {"a", {{"kind", "texture"}, {"image", {{"raw", "ramp.raw"}, {"size", {2, 1, 1}}}}, {"filter", "nearest"}, {"channels", {"A"}}}},
-                  {"b", {{"kind", "select"},
-                         {"regions", {{{"box", {{"lo", {0, 0, 0}}, {"hi", {0.5, 1, 1}}}}, {"material", "A"}}}},
-                         {"otherwise", "B"}}},
-                  {"weight", 0.5}})
-          .dump(),
-      dir / "s.json");
+  const Scene nested =
+      parse_scene(scene_with({{"kind", "blend"},
+                              {"a",
+                               {{"kind", "texture"},
+                                {"image", {{"raw", "ramp.raw"}, {"size", {2, 1, 1}}}},
+                                {"filter", "nearest"},
+                                {"channels", {"A"}}}},
+                              {"b",
+                               {{"kind", "select"},
+                                {"regions", {{{"box", {{"lo", {0, 0, 0}}, {"hi", {0.5, 1, 1}}}}, {"material", "A"}}}},
+                                {"otherwise", "B"}}},
+                              {"weight", 0.5}})
+                      .dump(),
+                  dir / "s.json");
   expect_near(at(nested, {0.8, 0, 0}), {0.5f, 0.5f});
 }
 
@@ -181,15 +192,29 @@ TEST(SceneComposition, Errors) {
   error({{"kind", "blend"}, {"a", "A"}, {"b", "B"}, {"weight", "u +* 2"}}, "/cells/0/material/weight", "u +* 2");
   error({{"kind", "blend"}, {"a", "A"}, {"b", "C"}, {"weight", 0.5}}, "/cells/0/material/b", "unknown material \"C\"");
   error({{"kind", "blend"}, {"a", "A"}, {"b", "B"}, {"weight", true}}, "/cells/0/material/weight", "expected a scalar");
-  error({{"kind", "select"}, {"regions", {{{"box", {{"lo", {0, 0.6, 0}}, {"hi", {1, 0.5, 1}}}}, {"material", "A"}}}}, {"otherwise", "B"}},
+  error({{"kind", "select"},
+         {"regions", {{{"box", {{"lo", {0, 0.6, 0}}, {"hi", {1, 0.5, 1}}}}, {"material", "A"}}}},
+         {"otherwise", "B"}},
         "/cells/0/material/regions/0/box", "lo[1] = 0.6 is above hi[1] = 0.5");
-  error({{"kind", "transfer"}, {"source", "u"}, {"stops", {{{"value", 1}, {"fractions", {{"A", 1}}}}, {{"value", 0}, {"fractions", {{"B", 1}}}}}}},
+  error({{"kind", "transfer"},
+         {"source", "u"},
+         {"stops", {{{"value", 1}, {"fractions", {{"A", 1}}}}, {{"value", 0}, {"fractions", {{"B", 1}}}}}}},
         "/cells/0/material/stops/1/value", "must not decrease");
-  error({{"kind", "threshold"}, {"source", {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {{0.5, 0.5}}}}}, {"component", 2}}},
-         {"level", 0.5}, {"below", "A"}, {"above", "B"}},
+  error({{"kind", "threshold"},
+         {"source",
+          {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {{0.5, 0.5}}}}},
+           {"component", 2}}},
+         {"level", 0.5},
+         {"below", "A"},
+         {"above", "B"}},
         "/cells/0/material/source/component", "outside [0, 1]");
-  error({{"kind", "blend"}, {"a", "A"}, {"b", "B"},
-         {"weight", {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {0.5}}}}, {"component", 0}, {"magnitude", true}}}},
+  error({{"kind", "blend"},
+         {"a", "A"},
+         {"b", "B"},
+         {"weight",
+          {{"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {0.5}}}},
+           {"component", 0},
+           {"magnitude", true}}}},
         "/cells/0/material/weight/magnitude", "not both");
 }
 

@@ -31,7 +31,8 @@ ordered_json scene_with(const ordered_json& geometry) {
   return {{"units", "mm"},
           {"printer", "j750-hq"},
           {"materials", {{{"name", "A"}, {"rgba", {0, 0, 0, 255}}}}},
-          {"cells", {{{"name", "c"}, {"geometry", geometry}, {"material", {{"kind", "constant"}, {"fractions", {{"A", 1}}}}}}}}};
+          {"cells",
+           {{{"name", "c"}, {"geometry", geometry}, {"material", {{"kind", "constant"}, {"fractions", {{"A", 1}}}}}}}}};
 }
 
 // The JSON of a curve or surface, inline.
@@ -41,7 +42,8 @@ ordered_json inline_spline(const TensorSpline& s) {
     orders.push_back(s.knots(d).order());
     knots.push_back(std::vector<double>(s.knots(d).knots().begin(), s.knots(d).knots().end()));
   }
-  for (int p = 0; p < s.total_ctrl(); ++p) points.push_back({s.points()[3 * p], s.points()[3 * p + 1], s.points()[3 * p + 2]});
+  for (int p = 0; p < s.total_ctrl(); ++p)
+    points.push_back({s.points()[3 * p], s.points()[3 * p + 1], s.points()[3 * p + 2]});
   ordered_json j = {{"orders", orders}, {"knots", knots}, {"points", points}};
   if (s.is_rational()) j["weights"] = std::vector<double>(s.weights().begin(), s.weights().end());
   return j;
@@ -55,9 +57,11 @@ Volume read_one(const ordered_json& geometry) {
 
 void expect_same(const Volume& a, const Volume& b) {
   ASSERT_EQ(a.spline().total_ctrl(), b.spline().total_ctrl());
-  for (std::size_t i = 0; i < a.spline().points().size(); ++i) EXPECT_EQ(a.spline().points()[i], b.spline().points()[i]);
+  for (std::size_t i = 0; i < a.spline().points().size(); ++i)
+    EXPECT_EQ(a.spline().points()[i], b.spline().points()[i]);
   ASSERT_EQ(a.spline().weights().size(), b.spline().weights().size());
-  for (std::size_t i = 0; i < a.spline().weights().size(); ++i) EXPECT_EQ(a.spline().weights()[i], b.spline().weights()[i]);
+  for (std::size_t i = 0; i < a.spline().weights().size(); ++i)
+    EXPECT_EQ(a.spline().weights()[i], b.spline().weights()[i]);
 }
 
 const TensorSpline kPlate = test::bilinear_plate([](double a, double b) { return Vec3{10 + 10 * a, 0, 5 * b}; });
@@ -72,15 +76,21 @@ TEST(SceneConstruct, EachConstructorBuildsWhatTheLibraryBuilds) {
   RevolveParams rp{{1, 0, 0}, {0, 0, 2}, 270};
   rp.angle_direction = 0;
   expect_same(read_one({{"revolve",
-                         {{"profile", inline_spline(kPlate)}, {"axis_point_mm", {1, 0, 0}}, {"axis_dir", {0, 0, 2}},
-                          {"angle_deg", 270}, {"angle_param", "u"}}}}),
+                         {{"profile", inline_spline(kPlate)},
+                          {"axis_point_mm", {1, 0, 0}},
+                          {"axis_dir", {0, 0, 2}},
+                          {"angle_deg", 270},
+                          {"angle_param", "u"}}}}),
               revolve(kPlate, rp).volume);
   const TensorSpline path = test::circle_curve({0, 0, 0}, 15);
   SweepParams sp;
   sp.twist_deg = 30;
   sp.stations = 12;
-  expect_same(read_one({{"sweep", {{"section", inline_spline(kDisc)}, {"path", inline_spline(path)}, {"twist_deg", 30}, {"stations", 12}}}}),
-              sweep(kDisc, path, sp).volume);
+  expect_same(
+      read_one(
+          {{"sweep",
+            {{"section", inline_spline(kDisc)}, {"path", inline_spline(path)}, {"twist_deg", 30}, {"stations", 12}}}}),
+      sweep(kDisc, path, sp).volume);
   ShellParams shp;
   shp.thickness_mm = 0.5;
   shp.side = ShellSide::kCentred;
@@ -88,13 +98,24 @@ TEST(SceneConstruct, EachConstructorBuildsWhatTheLibraryBuilds) {
               thick_shell(kPlate, shp).volume);
   // Coons from the faces of a box.
   const auto plate = [](auto f) { return inline_spline(test::bilinear_plate(f)); };
-  const ordered_json faces = {
-      {"u0", plate([](double v, double w) { return Vec3{0, 2 * v, 3 * w}; })},
-      {"u1", plate([](double v, double w) { return Vec3{1, 2 * v, 3 * w}; })},
-      {"v0", plate([](double u, double w) { return Vec3{u, 0, 3 * w}; })},
-      {"v1", plate([](double u, double w) { return Vec3{u, 2, 3 * w}; })},
-      {"w0", plate([](double u, double v) { return Vec3{u, 2 * v, 0}; })},
-      {"w1", plate([](double u, double v) { return Vec3{u, 2 * v, 3}; })}};
+  const ordered_json faces = {{"u0", plate([](double v, double w) {
+                                 return Vec3{0, 2 * v, 3 * w};
+                               })},
+                              {"u1", plate([](double v, double w) {
+                                 return Vec3{1, 2 * v, 3 * w};
+                               })},
+                              {"v0", plate([](double u, double w) {
+                                 return Vec3{u, 0, 3 * w};
+                               })},
+                              {"v1", plate([](double u, double w) {
+                                 return Vec3{u, 2, 3 * w};
+                               })},
+                              {"w0", plate([](double u, double v) {
+                                 return Vec3{u, 2 * v, 0};
+                               })},
+                              {"w1", plate([](double u, double v) {
+                                 return Vec3{u, 2 * v, 3};
+                               })}};
   const Volume box = read_one({{"coons", faces}});
   EXPECT_LE(norm(box.evaluate({0.25, 0.5, 0.75}) - Vec3{0.25, 1, 2.25}), 1e-14);
 }
@@ -108,16 +129,19 @@ TEST(SceneConstruct, SurfacesAndCurvesFromModelFiles) {
   std::ofstream out(dir / "parts.itd");
   write_itd(out, m);
   out.close();
-  ordered_json scene = scene_with({{"revolve", {{"profile", {{"file", "parts.itd"}, {"patch", 0}}}, {"angle_deg", 90}}}});
+  ordered_json scene =
+      scene_with({{"revolve", {{"profile", {{"file", "parts.itd"}, {"patch", 0}}}, {"angle_deg", 90}}}});
   Scene s = parse_scene(scene.dump(), dir / "scene.json");
   expect_same(s.cells[0].volume, revolve(kPlate, {{0, 0, 0}, {0, 0, 1}, 90}).volume);
-  scene["cells"][0]["geometry"] = {{"sweep", {{"section", {{"file", "parts.itd"}, {"patch", 1}}}, {"path", {{"file", "parts.itd"}}}}}};
+  scene["cells"][0]["geometry"] = {
+      {"sweep", {{"section", {{"file", "parts.itd"}, {"patch", 1}}}, {"path", {{"file", "parts.itd"}}}}}};
   s = parse_scene(scene.dump(), dir / "scene.json");
   EXPECT_LE(norm(s.cells[0].volume.evaluate({0.5, 0.5, 1}) - Vec3{0, 0, 20}), 1e-12);
   // Two surfaces in the file: "patch" is needed; a file without curves cannot give a path.
   scene["cells"][0]["geometry"]["sweep"]["section"] = {{"file", "parts.itd"}};
   expect_scene_error(scene.dump(), "/cells/0/geometry/sweep/section", "holds 2 surfaces", dir);
-  scene["cells"][0]["geometry"] = {{"extrude", {{"surface", {{"file", "parts.itd"}, {"patch", 2}}}, {"vector_mm", {0, 0, 1}}}}};
+  scene["cells"][0]["geometry"] = {
+      {"extrude", {{"surface", {{"file", "parts.itd"}, {"patch", 2}}}, {"vector_mm", {0, 0, 1}}}}};
   expect_scene_error(scene.dump(), "/cells/0/geometry/extrude/surface/patch", "outside [0, 1]", dir);
 }
 
@@ -143,17 +167,32 @@ TEST(SceneConstruct, ErrorsNameTheField) {
                      "/cells/0/geometry/extrude/surface/orders", "");
   // A section off its plane: the constructor's rule, reported at the constructor.
   const TensorSpline lifted = kDisc.transformed([](std::span<double> p) { p[2] += 1; });
-  expect_scene_error(scene_with({{"sweep", {{"section", inline_spline(lifted)}, {"path", inline_spline(test::circle_curve({}, 9))}}}}).dump(),
-                     "/cells/0/geometry/sweep", "plane z = 0");
+  expect_scene_error(
+      scene_with({{"sweep", {{"section", inline_spline(lifted)}, {"path", inline_spline(test::circle_curve({}, 9))}}}})
+          .dump(),
+      "/cells/0/geometry/sweep", "plane z = 0");
   // Coons faces that do not meet: the faces and the edge are named.
   const auto face = [](auto f) { return inline_spline(test::bilinear_plate(f)); };
-  ordered_json faces = {{"u0", face([](double v, double w) { return Vec3{0, v, w}; })},
-                        {"u1", face([](double v, double w) { return Vec3{1, v, w}; })},
-                        {"v0", face([](double u, double w) { return Vec3{u, 0, w}; })},
-                        {"v1", face([](double u, double w) { return Vec3{u, 1, w}; })},
-                        {"w0", face([](double u, double v) { return Vec3{u, v, 0}; })},
-                        {"w1", face([](double u, double v) { return Vec3{u, v, 1.5}; })}};
-  expect_scene_error(scene_with({{"coons", faces}}).dump(), "/cells/0/geometry/coons", "faces u0 and w1 do not share their edge (u=0, w=1)");
+  ordered_json faces = {{"u0", face([](double v, double w) {
+                           return Vec3{0, v, w};
+                         })},
+                        {"u1", face([](double v, double w) {
+                           return Vec3{1, v, w};
+                         })},
+                        {"v0", face([](double u, double w) {
+                           return Vec3{u, 0, w};
+                         })},
+                        {"v1", face([](double u, double w) {
+                           return Vec3{u, 1, w};
+                         })},
+                        {"w0", face([](double u, double v) {
+                           return Vec3{u, v, 0};
+                         })},
+                        {"w1", face([](double u, double v) {
+                           return Vec3{u, v, 1.5};
+                         })}};
+  expect_scene_error(scene_with({{"coons", faces}}).dump(), "/cells/0/geometry/coons",
+                     "faces u0 and w1 do not share their edge (u=0, w=1)");
   faces.erase("w1");
   expect_scene_error(scene_with({{"coons", faces}}).dump(), "/cells/0/geometry/coons", "\"w1\"");
 }
@@ -209,18 +248,30 @@ TEST(SceneConstruct, SchemaAgreesWithTheReader) {
 TEST(SceneConstruct, CoonsFacesInAnyOrder) {
   const auto plate = [](auto f) { return inline_spline(test::bilinear_plate(f)); };
   // The faces of a 1 x 2 x 3 box, shuffled and with some parameters swapped.
-  const ordered_json shuffled = {plate([](double u, double v) { return Vec3{u, 2 * v, 3}; }),
-                                 plate([](double w, double v) { return Vec3{0, 2 * v, 3 * w}; }),
-                                 plate([](double u, double w) { return Vec3{u, 0, 3 * w}; }),
-                                 plate([](double u, double v) { return Vec3{u, 2 * v, 0}; }),
-                                 plate([](double v, double w) { return Vec3{1, 2 * v, 3 * w}; }),
-                                 plate([](double w, double u) { return Vec3{u, 2, 3 * w}; })};
+  const ordered_json shuffled = {plate([](double u, double v) {
+                                   return Vec3{u, 2 * v, 3};
+                                 }),
+                                 plate([](double w, double v) {
+                                   return Vec3{0, 2 * v, 3 * w};
+                                 }),
+                                 plate([](double u, double w) {
+                                   return Vec3{u, 0, 3 * w};
+                                 }),
+                                 plate([](double u, double v) {
+                                   return Vec3{u, 2 * v, 0};
+                                 }),
+                                 plate([](double v, double w) {
+                                   return Vec3{1, 2 * v, 3 * w};
+                                 }),
+                                 plate([](double w, double u) {
+                                   return Vec3{u, 2, 3 * w};
+                                 })};
   const Volume box = read_one({{"coons", {{"faces", shuffled}}}});
   EXPECT_NE(check_jacobian(box).classification, JacobianClass::kFolded);
   const Box3 b = box.bounds();
   EXPECT_LE(norm(b.lo - Vec3{0, 0, 0}) + norm(b.hi - Vec3{1, 2, 3}), 1e-14);
-  expect_scene_error(scene_with({{"coons", {{"faces", shuffled}, {"u0", shuffled[1]}}}}).dump(), "/cells/0/geometry/coons/u0",
-                     "not both");
+  expect_scene_error(scene_with({{"coons", {{"faces", shuffled}, {"u0", shuffled[1]}}}}).dump(),
+                     "/cells/0/geometry/coons/u0", "not both");
   ordered_json five = shuffled;
   five.erase(five.size() - 1);
   expect_scene_error(scene_with({{"coons", {{"faces", five}}}}).dump(), "/cells/0/geometry/coons/faces",
@@ -231,12 +282,24 @@ TEST(SceneConstruct, CoonsUntangleIsTheLibrarysAndChecksItsKeys) {
   // A box whose top bulges: the untangled volume is the library's untangle() of the Coons
   // volume, point for point.
   const auto plate = [](auto f) { return test::bilinear_plate(f); };
-  std::array<TensorSpline, 6> faces{plate([](double v, double w) { return Vec3{0, 4 * v, 3 * w}; }),
-                                    plate([](double v, double w) { return Vec3{5, 4 * v, 3 * w}; }),
-                                    plate([](double u, double w) { return Vec3{5 * u, 0, 3 * w}; }),
-                                    plate([](double u, double w) { return Vec3{5 * u, 4, 3 * w}; }),
-                                    plate([](double u, double v) { return Vec3{5 * u, 4 * v, 0}; }),
-                                    plate([](double u, double v) { return Vec3{5 * u, 4 * v, 3}; })};
+  std::array<TensorSpline, 6> faces{plate([](double v, double w) {
+                                      return Vec3{0, 4 * v, 3 * w};
+                                    }),
+                                    plate([](double v, double w) {
+                                      return Vec3{5, 4 * v, 3 * w};
+                                    }),
+                                    plate([](double u, double w) {
+                                      return Vec3{5 * u, 0, 3 * w};
+                                    }),
+                                    plate([](double u, double w) {
+                                      return Vec3{5 * u, 4, 3 * w};
+                                    }),
+                                    plate([](double u, double v) {
+                                      return Vec3{5 * u, 4 * v, 0};
+                                    }),
+                                    plate([](double u, double v) {
+                                      return Vec3{5 * u, 4 * v, 3};
+                                    })};
   ordered_json coons_json;
   for (int f = 0; f < 6; ++f) coons_json[coons_face_name(f)] = inline_spline(faces[static_cast<std::size_t>(f)]);
   UntangleParams p;
@@ -269,8 +332,12 @@ TEST(SceneConstruct, CoonsVolumeOfTheSharedDuckFolds) {
 }
 
 TEST(SceneConstruct, FoldedVolumesAreErrorsUnlessAllowed) {
-  const ordered_json bottom = inline_spline(test::bilinear_plate([](double a, double b) { return Vec3{10 * a, 10 * b, 0}; }));
-  const ordered_json top = inline_spline(test::bilinear_plate([](double a, double b) { return Vec3{10 - 10 * a, 10 * b, 4}; }));
+  const ordered_json bottom = inline_spline(test::bilinear_plate([](double a, double b) {
+    return Vec3{10 * a, 10 * b, 0};
+  }));
+  const ordered_json top = inline_spline(test::bilinear_plate([](double a, double b) {
+    return Vec3{10 - 10 * a, 10 * b, 4};
+  }));
   expect_scene_error(scene_with({{"ruled", {{"from", bottom}, {"to", top}}}}).dump(), "/cells/0/geometry/ruled",
                      "folds over itself (folded: det J");
   const Volume v = read_one({{"ruled", {{"from", bottom}, {"to", top}, {"allow_fold", true}}}});

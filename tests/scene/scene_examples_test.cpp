@@ -2,8 +2,8 @@
 // example in docs/SCENE.md parses (full scenes read, material functions build).
 #include <fstream>
 #include <set>
-#include <vector>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>

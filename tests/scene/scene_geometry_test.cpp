@@ -32,13 +32,22 @@ void write_models(const std::filesystem::path& dir) {
   boxes.source = "boxes";
   boxes.patches.push_back({"LEFT", 0, 0, box_spline({0, 0, 0}, {10, 10, 10})});
   boxes.patches.push_back({"RIGHT", 1, 0, box_spline({10, 0, 0}, {20, 10, 10})});
-  std::ofstream(dir / "boxes.itd") << [&] { std::ostringstream s; write_itd(s, boxes); return s.str(); }();
+  std::ofstream(dir / "boxes.itd") << [&] {
+    std::ostringstream s;
+    write_itd(s, boxes);
+    return s.str();
+  }();
   Model field;
   field.source = "field";
   std::vector<double> pts;
   for (int c = 0; c < 8; ++c) pts.insert(pts.end(), {(c & 1) ? 1.0 : 0.0, (c & 1) ? 0.0 : 1.0});
-  field.patches.push_back({"FIELD", 0, 0, TensorSpline({KnotVector::bezier(2), KnotVector::bezier(2), KnotVector::bezier(2)}, 2, pts)});
-  std::ofstream(dir / "field.itd") << [&] { std::ostringstream s; write_itd(s, field); return s.str(); }();
+  field.patches.push_back(
+      {"FIELD", 0, 0, TensorSpline({KnotVector::bezier(2), KnotVector::bezier(2), KnotVector::bezier(2)}, 2, pts)});
+  std::ofstream(dir / "field.itd") << [&] {
+    std::ostringstream s;
+    write_itd(s, field);
+    return s.str();
+  }();
 }
 
 ordered_json scene_with(const ordered_json& geometry, const ordered_json& material) {
@@ -65,20 +74,22 @@ TEST(SceneGeometry, PatchSelectionFromAFile) {
   EXPECT_EQ(scene.bounds().hi, (Vec3{20, 10, 10}));
   // Two trivariates and no "patch": ambiguous.
   expect_scene_error(scene_with({{"file", "boxes.itd"}}, kConstant).dump(), "/cells/0/geometry", "\"all\"", dir);
-  expect_scene_error(scene_with({{"file", "boxes.itd"}, {"patch", 2}}, kConstant).dump(),
-                     "/cells/0/geometry/patch", "outside [0, 1]", dir);
+  expect_scene_error(scene_with({{"file", "boxes.itd"}, {"patch", 2}}, kConstant).dump(), "/cells/0/geometry/patch",
+                     "outside [0, 1]", dir);
   expect_scene_error(scene_with({{"file", "boxes.itd"}, {"patch", "some"}}, kConstant).dump(),
                      "/cells/0/geometry/patch", "\"all\"", dir);
   // A field file is not geometry.
-  expect_scene_error(scene_with({{"file", "field.itd"}}, kConstant).dump(), "/cells/0/geometry",
-                     "geometry needs 3", dir);
+  expect_scene_error(scene_with({{"file", "field.itd"}}, kConstant).dump(), "/cells/0/geometry", "geometry needs 3",
+                     dir);
 }
 
 TEST(SceneGeometry, FieldFromAFileMapsOntoEachCell) {
   const auto dir = test::scratch_dir();
   write_models(dir);
-  const ordered_json material = {{"kind", "spline_field"}, {"components", {"B", "A"}}, {"field", {{"file", "field.itd"}}}};
-  const Scene scene = parse_scene(scene_with({{"file", "boxes.itd"}, {"patch", "all"}}, material).dump(), dir / "scene.json");
+  const ordered_json material = {
+      {"kind", "spline_field"}, {"components", {"B", "A"}}, {"field", {{"file", "field.itd"}}}};
+  const Scene scene =
+      parse_scene(scene_with({{"file", "boxes.itd"}, {"patch", "all"}}, material).dump(), dir / "scene.json");
   ASSERT_EQ(scene.cells.size(), 2u);
   for (const Cell& cell : scene.cells) {
     std::vector<float> f(2);
@@ -95,9 +106,10 @@ TEST(SceneGeometry, FieldFromAFileMapsOntoEachCell) {
 TEST(SceneGeometry, IritScalarFieldDrivesAGradient) {
   const auto shared = test::shared_data_dir();
   if (shared.empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  const ordered_json geometry = {{"orders", {2, 2, 2}},
-                                 {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
-                                 {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}}};
+  const ordered_json geometry = {
+      {"orders", {2, 2, 2}},
+      {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
+      {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}}};
   const ordered_json material = {
       {"kind", "scalar_gradient"},
       {"field", {{"file", (shared / "volumes/irit/sphere16.itd").string()}}},
@@ -108,9 +120,10 @@ TEST(SceneGeometry, IritScalarFieldDrivesAGradient) {
   EXPECT_NEAR(f[0] + f[1], 1.0, 1e-5);
 }
 
-const ordered_json kUnitBox = {{"orders", {2, 2, 2}},
-                               {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
-                               {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}}};
+const ordered_json kUnitBox = {
+    {"orders", {2, 2, 2}},
+    {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
+    {"points", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}}}};
 
 Volume placed(const ordered_json& placement) {
   ordered_json s = scene_with(kUnitBox, kConstant);

@@ -20,18 +20,16 @@ ordered_json unit_box(double size) {
   for (int k = 0; k < 2; ++k)
     for (int j = 0; j < 2; ++j)
       for (int i = 0; i < 2; ++i) points.push_back({i * size, j * size, k * size});
-  return {{"orders", {2, 2, 2}},
-          {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}},
-          {"points", points}};
+  return {{"orders", {2, 2, 2}}, {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}, {0, 0, 1, 1}}}, {"points", points}};
 }
 
 ordered_json minimal_scene() {
-  return {{"units", "mm"},
-          {"printer", "j750-paper"},
-          {"materials", {{{"name", "A"}, {"rgba", {255, 0, 0, 255}}},
-                         {{"name", "B"}, {"rgba", "#00ff0080"}}}},
-          {"cells", {{{"geometry", unit_box(10)},
-                      {"material", {{"kind", "constant"}, {"fractions", {{"A", 0.25}, {"B", 0.5}}}}}}}}};
+  return {
+      {"units", "mm"},
+      {"printer", "j750-paper"},
+      {"materials", {{{"name", "A"}, {"rgba", {255, 0, 0, 255}}}, {{"name", "B"}, {"rgba", "#00ff0080"}}}},
+      {"cells",
+       {{{"geometry", unit_box(10)}, {"material", {{"kind", "constant"}, {"fractions", {{"A", 0.25}, {"B", 0.5}}}}}}}}};
 }
 
 TEST(SceneReader, MinimalScene) {
@@ -61,7 +59,8 @@ TEST(SceneReader, MinimalScene) {
 TEST(SceneReader, DitheringSettings) {
   auto j = minimal_scene();
   EXPECT_FALSE(parse_scene(j.dump(), "s.json").dithering.has_value());
-  j["dithering"] = {{"method", "jarvis-judice-ninke"}, {"serpentine", false}, {"vary_by_layer", false}, {"skin_voxels", 3}};
+  j["dithering"] = {
+      {"method", "jarvis-judice-ninke"}, {"serpentine", false}, {"vary_by_layer", false}, {"skin_voxels", 3}};
   const Scene scene = parse_scene(j.dump(), "s.json");
   ASSERT_TRUE(scene.dithering.has_value());
   EXPECT_EQ(scene.dithering->method, DitherMethod::kErrorDiffusion);
@@ -273,16 +272,20 @@ TEST(SceneErrors, MaterialFunctionRules) {
   expect_scene_error(s.dump(), "/cells/0/material/fractions/A", "u +* 2");
   s["cells"][0]["material"] = {{"kind", "expression"}, {"fractions", {{"A", "k*u"}}}, {"constants", {{"x", 2}}}};
   expect_scene_error(s.dump(), "/cells/0/material/constants", "variables");
-  s["cells"][0]["material"] = {{"kind", "porous_tiles"}, {"tiles", {2, 2, 2}}, {"radius", 0.7}, {"materials", {"A", "void"}}};
+  s["cells"][0]["material"] = {
+      {"kind", "porous_tiles"}, {"tiles", {2, 2, 2}}, {"radius", 0.7}, {"materials", {"A", "void"}}};
   expect_scene_error(s.dump(), "/cells/0/material/radius", "outside [0, 0.5]");
   s["cells"][0]["material"] = {{"kind", "twisting_curves"}, {"points", {{{"uv", {0.5, 0.5}}, {"material", "A"}}}}};
   expect_scene_error(s.dump(), "/cells/0/material", "\"radius\" is missing");
-  s["cells"][0]["material"] = {{"kind", "scalar_gradient"},
-                               {"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {0.5}}}},
-                               {"stops", {{{"value", 1}, {"fractions", {{"A", 1}}}}, {{"value", 0}, {"fractions", {{"B", 1}}}}}}};
+  s["cells"][0]["material"] = {
+      {"kind", "scalar_gradient"},
+      {"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {0.5}}}},
+      {"stops", {{{"value", 1}, {"fractions", {{"A", 1}}}}, {{"value", 0}, {"fractions", {{"B", 1}}}}}}};
   expect_scene_error(s.dump(), "/cells/0/material/stops/1/value", "must not decrease");
-  s["cells"][0]["material"] = {{"kind", "spline_field"}, {"components", {"A", "A"}},
-                               {"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {{0.5, 0.5}}}}}};
+  s["cells"][0]["material"] = {
+      {"kind", "spline_field"},
+      {"components", {"A", "A"}},
+      {"field", {{"orders", {1, 1, 1}}, {"knots", {{0, 1}, {0, 1}, {0, 1}}}, {"points", {{0.5, 0.5}}}}}};
   expect_scene_error(s.dump(), "/cells/0/material/components/1", "component 0 already");
   s["cells"][0]["material"]["components"] = {"A", "B"};
   s["cells"][0]["material"]["field"]["points"] = {{0.5, 0.5, 0.5}};
@@ -291,11 +294,14 @@ TEST(SceneErrors, MaterialFunctionRules) {
 
 TEST(SceneReader, EveryMaterialKindBuildsAndEvaluates) {
   ordered_json s = minimal_scene();
-  const ordered_json field1 = {{"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {0.0, 1.0}}};
-  const ordered_json field2 = {{"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{1, 0}, {0, 1}}}};
+  const ordered_json field1 = {
+      {"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {0.0, 1.0}}};
+  const ordered_json field2 = {
+      {"orders", {2, 1, 1}}, {"knots", {{0, 0, 1, 1}, {0, 1}, {0, 1}}}, {"points", {{1, 0}, {0, 1}}}};
   const std::vector<ordered_json> kinds = {
       {{"kind", "spline_field"}, {"components", {"A", "B"}}, {"field", field2}},
-      {{"kind", "scalar_gradient"}, {"field", field1},
+      {{"kind", "scalar_gradient"},
+       {"field", field1},
        {"stops", {{{"value", 0}, {"fractions", {{"A", 1}}}}, {{"value", 1}, {"fractions", {{"B", 1}}}}}}},
       {{"kind", "expression"}, {"fractions", {{"A", "1 - u"}, {"B", "u"}}}},
   };
@@ -308,13 +314,17 @@ TEST(SceneReader, EveryMaterialKindBuildsAndEvaluates) {
     EXPECT_NEAR(f[0], 0.75, 1e-6) << m.dump();
     EXPECT_NEAR(f[1], 0.25, 1e-6) << m.dump();
   }
-  s["cells"][0]["material"] = {{"kind", "twisting_curves"}, {"points", {{{"uv", {0.8, 0.5}}, {"material", "B"}}}},
-                               {"radius", 0.05}, {"turns_per_w", 1}, {"background", "A"}, {"wrap", {"u"}}};
+  s["cells"][0]["material"] = {{"kind", "twisting_curves"},
+                               {"points", {{{"uv", {0.8, 0.5}}, {"material", "B"}}}},
+                               {"radius", 0.05},
+                               {"turns_per_w", 1},
+                               {"background", "A"},
+                               {"wrap", {"u"}}};
   std::vector<float> f(2);
   parse_scene(s.dump(), "s.json").cells[0].material->evaluate({0.5, 0.8, 0.25}, {}, f);
   EXPECT_EQ(f, (std::vector<float>{0.0f, 1.0f}));
-  s["cells"][0]["material"] = {{"kind", "porous_tiles"}, {"tiles", {2, 2, 2}}, {"materials", {"void", "B"}},
-                               {"cylinder_axes", {"v", "w"}}};
+  s["cells"][0]["material"] = {
+      {"kind", "porous_tiles"}, {"tiles", {2, 2, 2}}, {"materials", {"void", "B"}}, {"cylinder_axes", {"v", "w"}}};
   parse_scene(s.dump(), "s.json").cells[0].material->evaluate({0.55, 0.05, 0.05}, {}, f);  // tile (1,0,0)
   EXPECT_EQ(f, (std::vector<float>{0.0f, 1.0f}));
 }

@@ -29,8 +29,7 @@ inline void write_file(const std::filesystem::path& path, const std::string& tex
 
 // Parses `text` as the scene `dir/scene.json` and expects an InputError whose JSON pointer is
 // `pointer` and whose message contains `fragment`.
-inline void expect_scene_error(const std::string& text, const std::string& pointer,
-                               const std::string& fragment,
+inline void expect_scene_error(const std::string& text, const std::string& pointer, const std::string& fragment,
                                const std::filesystem::path& dir = std::filesystem::temp_directory_path()) {
   const std::filesystem::path source = dir / "scene.json";
   try {

@@ -17,8 +17,8 @@ std::string box(double x0, double x1) {
 
 std::string scene(const std::string& volumes_and_cells) {
   return R"({"version": 1, "units": "mm", "printer": "j750-paper", "materials": ["VeroCyan", "VeroMagenta"],
-  "volumes": [{"name": "A", "geometry": )" + box(0, 4) + R"(}, {"name": "B", "geometry": )" + box(2, 6) + "}],\n" +
-         volumes_and_cells + "}";
+  "volumes": [{"name": "A", "geometry": )" +
+         box(0, 4) + R"(}, {"name": "B", "geometry": )" + box(2, 6) + "}],\n" + volumes_and_cells + "}";
 }
 
 // A face of the unit cube as an inline bilinear surface.
@@ -72,18 +72,19 @@ TEST(SceneTrim, MissingUnionRegionIsRefused) {
 
 TEST(SceneTrim, OpenShellIsAnInputErrorNamingTheShell) {
   // Five faces of the unit cube: the top is missing.
-  const std::string faces = face("[0,0,0]", "[0,1,0]", "[0,0,1]", "[0,1,1]") + "," +
-                            face("[1,0,0]", "[1,1,0]", "[1,0,1]", "[1,1,1]") + "," +
-                            face("[0,0,0]", "[1,0,0]", "[0,0,1]", "[1,0,1]") + "," +
-                            face("[0,1,0]", "[1,1,0]", "[0,1,1]", "[1,1,1]") + "," +
-                            face("[0,0,0]", "[1,0,0]", "[0,1,0]", "[1,1,0]");
+  const std::string faces =
+      face("[0,0,0]", "[0,1,0]", "[0,0,1]", "[0,1,1]") + "," + face("[1,0,0]", "[1,1,0]", "[1,0,1]", "[1,1,1]") + "," +
+      face("[0,0,0]", "[1,0,0]", "[0,0,1]", "[1,0,1]") + "," + face("[0,1,0]", "[1,1,0]", "[0,1,1]", "[1,1,1]") + "," +
+      face("[0,0,0]", "[1,0,0]", "[0,1,0]", "[1,1,0]");
   test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
-      "shell": {"surfaces": [)" + faces + "]}}]}]"),
+      "shell": {"surfaces": [)" + faces +
+                                 "]}}]}]"),
                            "/cells/0/trim/0/shell", "is not closed");
   // With the top the same shell reads.
   const std::string closed = faces + "," + face("[0,0,1]", "[1,0,1]", "[0,1,1]", "[1,1,1]");
   const Scene s = parse_scene(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
-      "parametric": {"surfaces": [)" + closed + "]}}]}]"),
+      "parametric": {"surfaces": [)" +
+                                    closed + "]}}]}]"),
                               "scene.json");
   ASSERT_EQ(s.cells.size(), 1u);
   EXPECT_EQ(s.cells[0].trim.clauses[0].kind, TrimKind::kParametric);
@@ -96,7 +97,8 @@ TEST(SceneTrim, OpenShellFromAFileNamesTheFile) {
   // The Utah teapot's 32 Bezier patches leave the bottom open.
   const std::string file = (dir / "surfaces" / "teapot_bezier_patches.xml").string();
   test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
-      "shell": {"file": ")" + file + R"("}}]}])"),
+      "shell": {"file": ")" + file +
+                                 R"("}}]}])"),
                            "/cells/0/trim/0/shell/file", "teapot_bezier_patches.xml\" is not closed");
 }
 
@@ -124,12 +126,13 @@ TEST(SceneTrim, TrimmedModelShellReadsAndAnOpenOneNamesTheSurfaceAndSegment) {
   ]
 ]
 )");
-  test::expect_scene_error(scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
+  test::expect_scene_error(
+      scene(R"("cells": [{"volume": "A", "material": "VeroCyan", "trim": [{"side": "inside",
       "shell": {"file": "square.itd"}}]}])"),
-                           "/cells/0/trim/0/shell",
-                           "MODEL 'SQUARE' (line 2), trimmed surface 1 (line 3): trimming segment 1 borders one surface "
-                           "and no other segment lies near it",
-                           dir);
+      "/cells/0/trim/0/shell",
+      "MODEL 'SQUARE' (line 2), trimmed surface 1 (line 3): trimming segment 1 borders one surface "
+      "and no other segment lies near it",
+      dir);
   const auto shared = test::shared_data_dir();
   if (shared.empty()) GTEST_SKIP() << test::shared_data_missing_message();
   const std::string file = (shared / "surfaces" / "teapot_trimmed_model.itd").string();

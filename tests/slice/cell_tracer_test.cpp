@@ -44,8 +44,10 @@ detail::RowSpans inside_spans(const Volume& v, const GlobalSolver& solver, const
   finder.trace_layer(L, z, whole_rows, [&](int row, const detail::TracedRow& traced) {
     auto& spans = inside[static_cast<std::size_t>(row)];
     for (int col : traced.cols)
-      if (!spans.empty() && spans.back().second == col - 1) spans.back().second = col;
-      else spans.push_back({col, col});
+      if (!spans.empty() && spans.back().second == col - 1)
+        spans.back().second = col;
+      else
+        spans.push_back({col, col});
   });
   return inside;
 }
@@ -61,9 +63,8 @@ void expect_agreement_with_global_solver(const Volume& v, std::initializer_list<
     detail::CellTracer tracer(v, solver, params, L.width_px);
     const detail::RowSpans whole_rows(static_cast<std::size_t>(L.height_px), {{0, L.width_px - 1}});
     std::vector<detail::TracedRow> rows(static_cast<std::size_t>(L.height_px));
-    tracer.trace_layer(L, z, whole_rows, [&](int row, const detail::TracedRow& traced) {
-      rows[static_cast<std::size_t>(row)] = traced;
-    });
+    tracer.trace_layer(L, z, whole_rows,
+                       [&](int row, const detail::TracedRow& traced) { rows[static_cast<std::size_t>(row)] = traced; });
     int inside = 0, mismatched = 0;
     for (int row = 0; row < L.height_px; ++row) {
       const detail::TracedRow& traced = rows[static_cast<std::size_t>(row)];
@@ -115,7 +116,10 @@ TEST(CellTracer, RowsInFlightGiveTheSequentialAnswers) {
     const int w = L.width_px;
     if (row % 7 == 3) {
       // Gaps of 2 to 6 columns, one span empty, one beyond the row above's reach.
-      s = {{0, w / 3}, {w / 3 + 2 + row % 5, w / 2}, {w / 2 + 5, w / 2 + 1}, {w / 2 + 3 + detail::CellTracer::kFloodReach, w - 1}};
+      s = {{0, w / 3},
+           {w / 3 + 2 + row % 5, w / 2},
+           {w / 2 + 5, w / 2 + 1},
+           {w / 2 + 3 + detail::CellTracer::kFloodReach, w - 1}};
     } else if (row % 13 == 0) {
       s = {{w / 2, w / 2}};  // one pixel
     } else {

@@ -25,9 +25,14 @@ enum Part { kBase = 0, kKnot = 1, kCup = 2 };
 
 // The scene cell of each region, by the set of volumes it lies in (bit 0 base, 1 knot, 2 cup).
 std::array<int, 8> cells_by_region(const Scene& scene) {
-  const std::array<std::string, 8> names = {"",           "chalice/base",         "chalice/knot",
-                                            "chalice/knot in base", "chalice/cup", "chalice/base+cup",
-                                            "chalice/knot in cup",  "chalice/base+knot+cup"};
+  const std::array<std::string, 8> names = {"",
+                                            "chalice/base",
+                                            "chalice/knot",
+                                            "chalice/knot in base",
+                                            "chalice/cup",
+                                            "chalice/base+cup",
+                                            "chalice/knot in cup",
+                                            "chalice/base+knot+cup"};
   std::array<int, 8> cells{};
   cells.fill(-1);
   for (std::size_t region = 1; region < names.size(); ++region)
@@ -130,7 +135,8 @@ TEST(Chalice, CellsPartitionTheUnionOfBaseKnotAndCupPixelByPixel) {
         const Vec3 x{L.x_of_col(col), L.y_of_row(row), zl};
         const int region = region_of(x);
         const int expected = region ? cells[static_cast<std::size_t>(region)] : -1;
-        const int o = owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)];
+        const int o =
+            owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)];
         ++per_region[static_cast<std::size_t>(region)];
         if (o == expected) continue;
         // A centre within a hair (1e-5 mm) of a face may fall either way: the slicer's and the
@@ -146,8 +152,9 @@ TEST(Chalice, CellsPartitionTheUnionOfBaseKnotAndCupPixelByPixel) {
   }
   std::cout << "chalice pixels per region (base, knot, knot in base, cup, base+cup, knot in cup, all three):";
   for (std::size_t region = 1; region < 8; ++region) std::cout << " " << per_region[region];
-  std::cout << "; " << borderline << " within 1e-5 mm of a face; points on the seams of base and cup: "
-            << inside[kBase].on_seam << ", " << inside[kCup].on_seam << "\n";
+  std::cout << "; " << borderline
+            << " within 1e-5 mm of a face; points on the seams of base and cup: " << inside[kBase].on_seam << ", "
+            << inside[kCup].on_seam << "\n";
   EXPECT_EQ(mismatches, 0);
   EXPECT_LE(borderline, 6);
   // No volume overlaps itself (the knot has no seam; base and cup only theirs, which the
@@ -155,7 +162,8 @@ TEST(Chalice, CellsPartitionTheUnionOfBaseKnotAndCupPixelByPixel) {
   for (const InsideTest& t : inside) EXPECT_EQ(t.multiple, 0);
   EXPECT_EQ(inside[kKnot].on_seam, 0);
   // Every region that prints is on these layers.
-  for (int region : {0b001, 0b010, 0b011, 0b100, 0b110}) EXPECT_GT(per_region[static_cast<std::size_t>(region)], 1000) << region;
+  for (int region : {0b001, 0b010, 0b011, 0b100, 0b110})
+    EXPECT_GT(per_region[static_cast<std::size_t>(region)], 1000) << region;
   EXPECT_EQ(per_region[0b101], 0);
   EXPECT_EQ(per_region[0b111], 0);
 }

@@ -21,10 +21,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include "slice/job_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
-#include "slice/job_fixtures.h"
 
 namespace trivox {
 namespace {
@@ -36,9 +36,8 @@ using test::folder_bytes;
 // One test per example, so that CTest runs them side by side and each has its own time limit.
 const std::vector<std::string>& example_scenes() {
   static const std::vector<std::string> names = {
-      "boolean_pair", "box_gradient", "chalice", "column_scalar_gradient", "cylinder_sector_curves",
-      "dithering_skin", "expression_layers", "quick_start", "texture_composition",
-      "twisted_column_porous"};
+      "boolean_pair",   "box_gradient",      "chalice",     "column_scalar_gradient", "cylinder_sector_curves",
+      "dithering_skin", "expression_layers", "quick_start", "texture_composition",    "twisted_column_porous"};
   return names;
 }
 
@@ -94,7 +93,8 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
   // Once with 1 thread, twice with 2 and twice with 8. TBB runs at most one thread per core
   // unless told otherwise: the limit is raised so that 8 threads run at once on any machine.
   for (const auto& [threads, repeats] : std::vector<std::pair<int, int>>{{1, 1}, {2, 2}, {8, 2}}) {
-    const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+    const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                          static_cast<std::size_t>(threads));
     for (int repeat = 0; repeat < repeats; ++repeat) {
       JobParams p;
       p.output_dir = fs::temp_directory_path() / fmt::format("trivox-determinism-{}-{}", ::getpid(), GetParam());

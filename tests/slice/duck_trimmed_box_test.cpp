@@ -24,7 +24,8 @@ namespace {
 TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
   const auto dir = test::shared_data_dir();
   if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "duck_trimmed_box.json");
+  const Scene scene =
+      read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "duck_trimmed_box.json");
   ASSERT_EQ(scene.cells.size(), 1u);
   const Slicer slicer(scene, {});
   const SliceLayout& L = slicer.layout();
@@ -53,7 +54,8 @@ TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
     for (int col = 0; col < L.width_px; ++col) {
       auto& zs = columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)];
       bool even = rays.crossings(L.x_of_col(col), L.y_of_row(row), zs);
-      for (int k = 1; !even && k <= 8; ++k) even = rays.crossings(L.x_of_col(col) + k * 1.1e-7, L.y_of_row(row) + k * 0.7e-7, zs);
+      for (int k = 1; !even && k <= 8; ++k)
+        even = rays.crossings(L.x_of_col(col) + k * 1.1e-7, L.y_of_row(row) + k * 0.7e-7, zs);
       ASSERT_TRUE(even) << "column " << col << ", " << row;
     }
 
@@ -69,7 +71,8 @@ TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
     slicer.slice_layer(layer, &owner);
     auto in_duck = [&](int col, int row) {
       if (col < 0 || row < 0 || col >= L.width_px || row >= L.height_px) return false;
-      return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)], z);
+      return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)],
+                                        z);
     };
     for (int row = 0; row < L.height_px; ++row)
       for (int col = 0; col < L.width_px; ++col) {
@@ -82,7 +85,8 @@ TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
           near_surface = near_surface || std::abs(zc - z) <= L.layer_mm;
         // The box [-8, 9] x [-13, 7] x [-7, 3], within one pixel of its faces.
         const double dx = L.pitch_x_mm, dy = L.pitch_y_mm;
-        const bool in_box = x > -8 + dx && x < 9 - dx && y > -13 + dy && y < 7 - dy && z > -7 + L.layer_mm && z < 3 - L.layer_mm;
+        const bool in_box =
+            x > -8 + dx && x < 9 - dx && y > -13 + dy && y < 7 - dy && z > -7 + L.layer_mm && z < 3 - L.layer_mm;
         const bool out_box = x < -8 - dx || x > 9 + dx || y < -13 - dy || y > 7 + dy;
         if (near_surface || !(in_box || out_box)) {
           ++near;
@@ -100,8 +104,8 @@ TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
         }
       }
   }
-  std::cout << "duck-trimmed box: " << checked << " pixels checked (" << inside << " inside the duck and the box), " << near
-            << " within one pixel of a surface not checked, " << mismatches << " disagree; tessellations of "
+  std::cout << "duck-trimmed box: " << checked << " pixels checked (" << inside << " inside the duck and the box), "
+            << near << " within one pixel of a surface not checked, " << mismatches << " disagree; tessellations of "
             << production_samples << " and " << 2 * production_samples << " samples per surface direction\n";
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(inside, 10000);

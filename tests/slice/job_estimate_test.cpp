@@ -127,9 +127,12 @@ TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
     EXPECT_GE(e.peak_memory_bytes, e.stack_memory_bytes);
 
     run_slice_job(slicer, p);
-    const std::string stack = format == "tiff" ? "tiff/stack.tif" : format == "vdb" ? "vdb/stack.vdb" : "gcvf/stack.gcvf";
+    const std::string stack = format == "tiff"  ? "tiff/stack.tif"
+                              : format == "vdb" ? "vdb/stack.vdb"
+                                                : "gcvf/stack.gcvf";
     const std::uint64_t stack_bytes = fs::file_size(p.output_dir / stack);
-    const std::uint64_t rest = fs::file_size(p.output_dir / "materials.csv") + fs::file_size(p.output_dir / "manifest.json");
+    const std::uint64_t rest =
+        fs::file_size(p.output_dir / "materials.csv") + fs::file_size(p.output_dir / "manifest.json");
     const std::uint64_t allowance = 140u * 2u;  // the manifest's, for two files
     const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance;
     EXPECT_LE(rest, fs::file_size(p.output_dir / "materials.csv") + allowance + 2000u);

@@ -84,7 +84,8 @@ TEST(SliceJob, EveryDitherMethodIsIndependentOfTheThreadCount) {
     }
     ASSERT_FALSE(file_lists[0].empty());
     ASSERT_EQ(file_lists[0], file_lists[1]);
-    for (const std::string& f : file_lists[0]) EXPECT_EQ(read_bytes(dirs[0] / f), read_bytes(dirs[1] / f)) << name << ": " << f;
+    for (const std::string& f : file_lists[0])
+      EXPECT_EQ(read_bytes(dirs[0] / f), read_bytes(dirs[1] / f)) << name << ": " << f;
     EXPECT_EQ(read_bytes(dirs[0] / "materials.csv"), read_bytes(dirs[1] / "materials.csv")) << name;
     const auto stats = nlohmann::json::parse(read_bytes(dirs[0] / "stats.json"));
     EXPECT_EQ(stats["dithering"]["method"], std::string(name));
@@ -214,7 +215,8 @@ TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
     const RgbaImage b1 = read_png_rgba(p.output_dir / (fmt::format("bitmaps/slice_{}_m1.png", num)));
     std::int64_t occupied = 0, in_bitmaps = 0;
     for (std::size_t px = 0; px < img.rgba.size() / 4; ++px) {
-      const std::array<std::uint8_t, 4> c{img.rgba[4 * px], img.rgba[4 * px + 1], img.rgba[4 * px + 2], img.rgba[4 * px + 3]};
+      const std::array<std::uint8_t, 4> c{img.rgba[4 * px], img.rgba[4 * px + 1], img.rgba[4 * px + 2],
+                                          img.rgba[4 * px + 3]};
       ASSERT_TRUE(palette.count(c)) << "colour outside the palette in layer " << i;
       const bool on0 = b0.rgba[4 * px] != 0, on1 = b1.rgba[4 * px] != 0;
       EXPECT_FALSE(on0 && on1);  // at most one material per voxel

@@ -41,7 +41,8 @@ TEST(LayerPreview, ChosenLayersShowEveryVoxelInItsColourWithSquarePixels) {
     for (int y = 0; y < preview.height_px; ++y)
       for (int x = 0; x < preview.width_px; ++x) {
         const auto at = [](const RgbaImage& im, int px, int py, int c) {
-          return im.rgba[4 * (static_cast<std::size_t>(py) * static_cast<std::size_t>(im.width_px) + static_cast<std::size_t>(px)) +
+          return im.rgba[4 * (static_cast<std::size_t>(py) * static_cast<std::size_t>(im.width_px) +
+                              static_cast<std::size_t>(px)) +
                          static_cast<std::size_t>(c)];
         };
         // The same colour as the Voxel Print pixel it shows, made opaque.
@@ -63,12 +64,14 @@ TEST(LayerPreview, CommandLineOption) {
   const fs::path dir = fs::temp_directory_path() / "trivox-layer-preview-cli";
   fs::remove_all(dir);
   const std::string scene = std::string(TRIVOX_EXAMPLES_DIR) + "/scenes/quick_start.json";
-  const test::CliResult ok = test::run_cli(fmt::format("slice {} -o {} --layers 10:12 --preview 10,12 -q", scene, dir.string()));
+  const test::CliResult ok =
+      test::run_cli(fmt::format("slice {} -o {} --layers 10:12 --preview 10,12 -q", scene, dir.string()));
   ASSERT_EQ(ok.exit_code, 0) << ok.err;
   EXPECT_TRUE(fs::exists(dir / "preview/layer_00010.png"));
   EXPECT_TRUE(fs::exists(dir / "preview/layer_00012.png"));
   EXPECT_FALSE(fs::exists(dir / "preview/layer_00011.png"));
-  const test::CliResult bad = test::run_cli(fmt::format("slice {} -o {}-bad --layers 10:12 --preview 40 -q", scene, dir.string()));
+  const test::CliResult bad =
+      test::run_cli(fmt::format("slice {} -o {}-bad --layers 10:12 --preview 40 -q", scene, dir.string()));
   EXPECT_EQ(bad.exit_code, 3) << bad.err;
   EXPECT_NE(bad.err.find("preview layer 40"), std::string::npos) << bad.err;
 }

@@ -49,7 +49,9 @@ TEST(Slicer, BoxMarksExactlyThePixelsInside) {
   expect_matches_region(
       slicer, slicer.layout().num_layers / 2,
       [&](Vec3 p) { return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y; },
-      [&](Vec3 p) { return std::min({std::abs(p.x - lo.x), std::abs(p.x - hi.x), std::abs(p.y - lo.y), std::abs(p.y - hi.y)}); });
+      [&](Vec3 p) {
+        return std::min({std::abs(p.x - lo.x), std::abs(p.x - hi.x), std::abs(p.y - lo.y), std::abs(p.y - hi.y)});
+      });
 }
 
 TEST(Slicer, RationalAnnulusSectorMarksExactlyThePixelsInside) {
@@ -75,7 +77,9 @@ TEST(Slicer, SolidCylinderSectorWithCollapsedAxis) {
   const Slicer slicer(scene, {});
   expect_matches_region(
       slicer, 3, [](Vec3 p) { return p.x >= 0 && p.y >= 0 && std::hypot(p.x, p.y) <= 5.0; },
-      [](Vec3 p) { return std::min({std::abs(std::hypot(p.x, p.y) - 5.0), std::abs(p.x), std::abs(p.y)}); });
+      [](Vec3 p) {
+        return std::min({std::abs(std::hypot(p.x, p.y) - 5.0), std::abs(p.x), std::abs(p.y)});
+      });
 }
 
 TEST(Slicer, GradientWindowsKeepTheirFractions) {
@@ -159,7 +163,8 @@ TEST(Slicer, OutlineToleranceChangesTheWorkNotThePixels) {
       for (int row = 0; row < L.height_px; ++row)
         for (int col = 0; col < L.width_px; ++col) {
           const bool inside = r.labels.at(col, row) != LabelImage::kVoid;
-          const bool reference = !solver.solve({L.x_of_col(col), L.y_of_row(row), L.z_of_layer(layer)}).preimages.empty();
+          const bool reference =
+              !solver.solve({L.x_of_col(col), L.y_of_row(row), L.z_of_layer(layer)}).preimages.empty();
           if (inside != reference && ++wrong < 5) ADD_FAILURE() << tolerance << ": pixel " << col << "," << row;
         }
     }
@@ -247,7 +252,8 @@ class FixedFractions final : public MaterialFunction {
   explicit FixedFractions(std::vector<float> f) : MaterialFunction(static_cast<int>(f.size())), f_(std::move(f)) {}
   std::string_view kind() const noexcept override { return "fixed"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>, std::span<float> fractions) const override {
-    for (std::size_t s = 0; s < uvw.size(); ++s) std::copy(f_.begin(), f_.end(), fractions.begin() + static_cast<std::ptrdiff_t>(s * f_.size()));
+    for (std::size_t s = 0; s < uvw.size(); ++s)
+      std::copy(f_.begin(), f_.end(), fractions.begin() + static_cast<std::ptrdiff_t>(s * f_.size()));
   }
 
  private:
@@ -275,7 +281,8 @@ TEST(Slicer, FractionsBeyondTheDitheringToleranceAreRefusedNamingThePixel) {
     }
   }
   // Within the tolerance (1e-4 by default) the layer is sliced.
-  const Scene scene = test::scene_with({Cell{"ok", "/cells/0", box, std::make_shared<FixedFractions>(std::vector<float>{0.50004f, 0.50004f})}}, 2);
+  const Scene scene = test::scene_with(
+      {Cell{"ok", "/cells/0", box, std::make_shared<FixedFractions>(std::vector<float>{0.50004f, 0.50004f})}}, 2);
   const Slicer slicer(scene, {});
   EXPECT_GT(slicer.slice_layer(slicer.layout().num_layers / 2).stats.pixels_inside, 0);
 }

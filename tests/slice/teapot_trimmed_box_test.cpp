@@ -74,7 +74,8 @@ std::vector<std::array<Vec3, 3>> teapot_soup(const Model& model, int n) {
 TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndSeams) {
   const auto dir = test::shared_data_dir();
   if (dir.empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  const Scene scene = read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "teapot_trimmed_box.json");
+  const Scene scene =
+      read_scene(std::filesystem::path(TRIVOX_EXAMPLES_DIR) / "shared_scenes" / "teapot_trimmed_box.json");
   const Slicer slicer(scene, {});
   // The seams close within the allowed gap (1e-3 of the size).
   const ShellMesh mesh(*scene.cells.at(0).trim.clauses.at(0).shell, 0.01);
@@ -109,7 +110,8 @@ TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndS
     slicer.slice_layer(layer, &owner);
     auto in_teapot = [&](int col, int row) {
       if (col < 0 || row < 0 || col >= L.width_px || row >= L.height_px) return false;
-      return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)], zl);
+      return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)],
+                                        zl);
     };
     for (int row = 1; row + 1 < L.height_px; ++row)
       for (int col = 1; col + 1 < L.width_px; ++col) {
@@ -135,8 +137,8 @@ TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndS
       }
   }
   std::cout << "teapot-trimmed box: " << checked << " pixels checked (" << inside << " inside), " << skipped
-            << " near the surface or a seam not checked, " << mismatches << " disagree; " << odd_columns
-            << " of " << columns.size() << " vertical lines crossed an odd number of times\n";
+            << " near the surface or a seam not checked, " << mismatches << " disagree; " << odd_columns << " of "
+            << columns.size() << " vertical lines crossed an odd number of times\n";
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(inside, 20000);
   EXPECT_GT(checked - inside, 20000);

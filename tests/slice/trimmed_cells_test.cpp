@@ -20,7 +20,8 @@ namespace {
 using test::Hexahedron;
 
 Cell region(const std::string& name, int scene_volume, const Scene& s, int material, std::vector<TrimClause> clauses) {
-  Cell c = test::constant_cell(s.volumes[static_cast<std::size_t>(scene_volume)].volume, material, s.num_materials(), name);
+  Cell c =
+      test::constant_cell(s.volumes[static_cast<std::size_t>(scene_volume)].volume, material, s.num_materials(), name);
   c.scene_volume = scene_volume;
   c.trim.clauses = std::move(clauses);
   return c;
@@ -87,7 +88,8 @@ TEST(TrimmedCells, BooleanCellsPartitionTheUnion) {
     const double z = L.z_of_layer(layer);
     for (int row = 0; row < L.height_px; ++row)
       for (int col = 0; col < L.width_px; ++col) {
-        const std::size_t at = static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col);
+        const std::size_t at =
+            static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col);
         const int o = owner[at];
         // No pixel in two cells: had two regions overlapped, reversing the cells' order would
         // hand the overlap to the other one.
@@ -114,8 +116,9 @@ TEST(TrimmedCells, BooleanCellsPartitionTheUnion) {
 }
 
 TEST(TrimmedCells, ShellTrimAgreesWithAFinerPointInSolidTestAwayFromTheSurface) {
-  const Hexahedron shell_corners = {Vec3{0.8, 0.5, -0.4}, Vec3{3.6, 0.2, -0.3}, Vec3{1.0, 2.6, -0.2}, Vec3{3.4, 2.3, -0.5},
-                                    Vec3{0.6, 0.6, 0.7},  Vec3{3.9, 0.4, 0.8},  Vec3{0.9, 2.2, 0.9},  Vec3{3.7, 2.5, 0.6}};
+  const Hexahedron shell_corners = {Vec3{0.8, 0.5, -0.4}, Vec3{3.6, 0.2, -0.3}, Vec3{1.0, 2.6, -0.2},
+                                    Vec3{3.4, 2.3, -0.5}, Vec3{0.6, 0.6, 0.7},  Vec3{3.9, 0.4, 0.8},
+                                    Vec3{0.9, 2.2, 0.9},  Vec3{3.7, 2.5, 0.6}};
   auto shell = std::make_shared<TrimShell>(test::hexahedron_shell(shell_corners));
   Scene s = test::scene_with({test::constant_cell(test::box_volume({0, 0, 0}, {3, 2, 1}), 0, 2, "inside")}, 2);
   TrimClause k;
@@ -146,7 +149,8 @@ TEST(TrimmedCells, ShellTrimAgreesWithAFinerPointInSolidTestAwayFromTheSurface) 
         ++checked;
         const bool expected = in && in_box;
         inside += expected;
-        EXPECT_EQ(owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)] == 0,
+        EXPECT_EQ(owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) +
+                        static_cast<std::size_t>(col)] == 0,
                   expected)
             << x.x << " " << x.y << " " << x.z;
       }
@@ -180,7 +184,8 @@ TEST(TrimmedCells, ParametricTrimAgreesWithDirectEvaluation) {
         const bool in_trim = strictly(uvw.x, 0.2, 0.7) && strictly(uvw.y, 0.1, 0.6) && strictly(uvw.z, 0.3, 0.9);
         const bool out_trim = !(closed(uvw.x, 0.2, 0.7) && closed(uvw.y, 0.1, 0.6) && closed(uvw.z, 0.3, 0.9));
         if (!in_cell || !(in_trim || out_trim)) continue;  // on a face: either answer is exact
-        const bool owned = owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)] == 0;
+        const bool owned = owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) +
+                                 static_cast<std::size_t>(col)] == 0;
         EXPECT_EQ(owned, out_trim) << uvw.x << " " << uvw.y << " " << uvw.z;
         (out_trim ? kept : removed)++;
       }
@@ -197,10 +202,12 @@ TEST(TrimmedCells, ParametricOutlinesNarrowTheCandidatesAndChangeNoPixel) {
   // A rational quarter annulus; the kept region is a skewed parameter hexahedron that reaches
   // past the domain's face v = 0 (its outline there follows the cell's face), with a smaller
   // one removed from it.
-  const Hexahedron keep = {Vec3{0.15, -0.2, 0.1}, Vec3{0.85, -0.1, 0.15}, Vec3{0.2, 0.7, 0.05}, Vec3{0.9, 0.6, 0.2},
-                           Vec3{0.1, -0.15, 0.8}, Vec3{0.8, -0.2, 0.9}, Vec3{0.25, 0.65, 0.95}, Vec3{0.95, 0.75, 0.85}};
+  const Hexahedron keep = {Vec3{0.15, -0.2, 0.1},  Vec3{0.85, -0.1, 0.15}, Vec3{0.2, 0.7, 0.05},
+                           Vec3{0.9, 0.6, 0.2},    Vec3{0.1, -0.15, 0.8},  Vec3{0.8, -0.2, 0.9},
+                           Vec3{0.25, 0.65, 0.95}, Vec3{0.95, 0.75, 0.85}};
   Scene s = test::scene_with({test::gradient_cell(test::annulus_sector(1, 3, 1))}, 2);
-  s.cells[0].trim.clauses = keep_with_hole(TrimKind::kParametric, keep, test::axis_box({0.4, 0.2, 0.3}, {0.6, 0.4, 0.6}));
+  s.cells[0].trim.clauses =
+      keep_with_hole(TrimKind::kParametric, keep, test::axis_box({0.4, 0.2, 0.3}, {0.6, 0.4, 0.6}));
   SliceParams reference_params;
   reference_params.parametric_outlines = false;
   const Slicer narrowed(s, {}), reference(s, reference_params);
@@ -261,8 +268,8 @@ TEST(TrimmedCells, ShellTrimsNarrowTheCandidatesAndChangeNoPixel) {
     whole_inside += w.stats.pixels_inside;
   }
   std::cout << "shell trims: " << candidates << " candidates instead of " << reference_candidates << " for "
-            << inside_pixels << " inside pixels (untrimmed cell: " << whole_candidates << " candidates, " << whole_inside
-            << " inside)\n";
+            << inside_pixels << " inside pixels (untrimmed cell: " << whole_candidates << " candidates, "
+            << whole_inside << " inside)\n";
   EXPECT_GT(inside_pixels, 1000);
   EXPECT_LT(inside_pixels, whole_inside);
   EXPECT_LT(static_cast<double>(candidates), 0.8 * static_cast<double>(reference_candidates));
@@ -299,7 +306,8 @@ void expect_owners_of_multipatch(const std::vector<Volume>& patches) {
           return -1;
         };
         const int expected = last_containing(x);
-        const int o = owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)];
+        const int o =
+            owner[static_cast<std::size_t>(row) * static_cast<std::size_t>(L.width_px) + static_cast<std::size_t>(col)];
         if (o == expected) continue;
         const double h = 1e-5;
         bool near_face = false;

@@ -93,9 +93,9 @@ TEST_F(VerifyDecodes, TheReferenceJobVerifies) {
 }
 
 struct Damage {
-  std::string name;                                         // the file damaged
-  std::function<std::string(const std::string&)> damage;    // its new bytes from the old
-  std::string what;                                         // words of the report
+  std::string name;                                       // the file damaged
+  std::function<std::string(const std::string&)> damage;  // its new bytes from the old
+  std::string what;                                       // words of the report
 };
 
 TEST_F(VerifyDecodes, EachKindDamagedBehindAMatchingManifestIsReported) {
@@ -111,7 +111,13 @@ TEST_F(VerifyDecodes, EachKindDamagedBehindAMatchingManifestIsReported) {
       {"slice_00003.png", half, "PNG"},
       {"legacy/slice_00004_m0.bmp", half, "BMP header says"},
       // Bits per pixel (byte 28) from 1 to 8: the sizes still agree, the decoder refuses.
-      {"legacy/slice_00005_m1.bmp", [](const std::string& b) { std::string c = b; c[28] = 8; return c; }, "bits per pixel"},
+      {"legacy/slice_00005_m1.bmp",
+       [](const std::string& b) {
+         std::string c = b;
+         c[28] = 8;
+         return c;
+       },
+       "bits per pixel"},
       {"tiff/stack.tif", half, "tiff/stack.tif"},
       {"vdb/stack.vdb", half, "OpenVDB"},
       // A byte of the first PNG entry, after its 30-byte local header and name.
@@ -129,8 +135,8 @@ TEST_F(VerifyDecodes, EachKindDamagedBehindAMatchingManifestIsReported) {
 }
 
 TEST_F(VerifyDecodes, EachKindDamagedBehindTheOldManifestFailsItsHash) {
-  for (const std::string name : {"slice_00003.png", "legacy/slice_00004_m0.bmp", "tiff/stack.tif", "vdb/stack.vdb",
-                                 "gcvf/stack.gcvf"}) {
+  for (const std::string name :
+       {"slice_00003.png", "legacy/slice_00004_m0.bmp", "tiff/stack.tif", "vdb/stack.vdb", "gcvf/stack.gcvf"}) {
     SCOPED_TRACE(name);
     const fs::path dir = copy("hash");
     std::string b = read_bytes(dir / name);

@@ -110,6 +110,5 @@ TEST(Basis, FirstDerivativeFastPathMatchesA23) {
   }
 }
 
-
 }  // namespace
 }  // namespace trivox

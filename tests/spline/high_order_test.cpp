@@ -87,7 +87,8 @@ Reference bernstein_reference(const TensorSpline& s, const std::vector<double>& 
         for (int d = 0; d < 3; ++d) dW[d] += dbasis[d];
         for (int c = 0; c < dim; ++c) {
           A[static_cast<std::size_t>(c)] += basis * p[static_cast<std::size_t>(c)];
-          for (int d = 0; d < 3; ++d) dA[static_cast<std::size_t>(d * dim + c)] += dbasis[d] * p[static_cast<std::size_t>(c)];
+          for (int d = 0; d < 3; ++d)
+            dA[static_cast<std::size_t>(d * dim + c)] += dbasis[d] * p[static_cast<std::size_t>(c)];
         }
       }
   Reference r;
@@ -191,8 +192,8 @@ struct Shape {
 // Curves, surfaces and trivariates; order 16 (degree 15) and order 1 in every direction,
 // and mixed; point dimensions 1 to 5.
 const Shape kShapes[] = {
-    {{16}, 5},         {{1}, 2},          {{16, 16}, 3},     {{16, 16}, 1}, {{1, 1}, 3},
-    {{16, 16, 16}, 3}, {{1, 1, 1}, 3},    {{16, 1, 3}, 3},   {{16, 16, 16}, 2},
+    {{16}, 5},         {{1}, 2},       {{16, 16}, 3},   {{16, 16}, 1},     {{1, 1}, 3},
+    {{16, 16, 16}, 3}, {{1, 1, 1}, 3}, {{16, 1, 3}, 3}, {{16, 16, 16}, 2},
 };
 
 TEST(HighOrder, PolynomialBezierMatchesBernsteinSums) {
@@ -224,7 +225,8 @@ TEST(HighOrder, EqualWeightsGiveThePolynomialSpline) {
   std::mt19937 rng(162);
   for (const Shape& shape : kShapes) {
     const TensorSpline poly = random_bezier(rng, shape.orders, shape.point_dim, false);
-    const TensorSpline rational(poly.all_knots(), poly.point_dim(), std::vector<double>(poly.points().begin(), poly.points().end()),
+    const TensorSpline rational(poly.all_knots(), poly.point_dim(),
+                                std::vector<double>(poly.points().begin(), poly.points().end()),
                                 std::vector<double>(static_cast<std::size_t>(poly.total_ctrl()), 2.75));
     ASSERT_TRUE(rational.is_rational());
     const int pd = poly.param_dim(), dim = poly.point_dim();

@@ -12,14 +12,14 @@ namespace trivox {
 namespace {
 
 TEST(KnotVector, RejectsBrokenRules) {
-  EXPECT_THROW(KnotVector(0, {0, 1}), ModelError);                        // order < 1
+  EXPECT_THROW(KnotVector(0, {0, 1}), ModelError);  // order < 1
   EXPECT_THROW(KnotVector(kMaxOrder + 1, std::vector<double>(70, 0.0)), ModelError);
-  EXPECT_THROW(KnotVector(2, {0, 0, 1}), ModelError);                     // too few knots
-  EXPECT_THROW(KnotVector(2, {0, 0, 0.5, 0.4, 1, 1}), ModelError);        // decreasing
-  EXPECT_THROW(KnotVector(2, {0, 0, 0, 1, 1}), ModelError);               // multiplicity 3 > order 2
-  EXPECT_THROW(KnotVector(2, {0, 0, std::nan(""), 1, 1}), ModelError);    // NaN
+  EXPECT_THROW(KnotVector(2, {0, 0, 1}), ModelError);                   // too few knots
+  EXPECT_THROW(KnotVector(2, {0, 0, 0.5, 0.4, 1, 1}), ModelError);      // decreasing
+  EXPECT_THROW(KnotVector(2, {0, 0, 0, 1, 1}), ModelError);             // multiplicity 3 > order 2
+  EXPECT_THROW(KnotVector(2, {0, 0, std::nan(""), 1, 1}), ModelError);  // NaN
   EXPECT_THROW(KnotVector(2, {0, 0, 1, std::numeric_limits<double>::infinity()}), ModelError);
-  EXPECT_THROW(KnotVector(2, {1, 1, 1, 1}), ModelError);                  // empty domain
+  EXPECT_THROW(KnotVector(2, {1, 1, 1, 1}), ModelError);  // empty domain
   try {
     KnotVector(3, {0, 0, 0, 0.7, 0.2, 1, 1, 1});
     FAIL();
@@ -34,12 +34,12 @@ TEST(KnotVector, SpanSearchIsExactAtEndsAndRepeatedKnots) {
   EXPECT_DOUBLE_EQ(kv.lo(), 0);
   EXPECT_DOUBLE_EQ(kv.hi(), 4);
   EXPECT_EQ(kv.find_span(0.0), 2);
-  EXPECT_EQ(kv.find_span(-5.0), 2);   // clamped into the domain
+  EXPECT_EQ(kv.find_span(-5.0), 2);  // clamped into the domain
   EXPECT_EQ(kv.find_span(0.5), 2);
   EXPECT_EQ(kv.find_span(1.0), 3);
-  EXPECT_EQ(kv.find_span(2.0), 5);    // double knot: span starts at the last copy
+  EXPECT_EQ(kv.find_span(2.0), 5);  // double knot: span starts at the last copy
   EXPECT_EQ(kv.find_span(1.999), 3);
-  EXPECT_EQ(kv.find_span(4.0), 6);    // upper end: last non-empty span
+  EXPECT_EQ(kv.find_span(4.0), 6);  // upper end: last non-empty span
   EXPECT_EQ(kv.find_span(7.0), 6);
   EXPECT_EQ(kv.multiplicity(2.0), 2);
   EXPECT_EQ(kv.interior_breaks(), (std::vector<double>{1, 2, 3}));

@@ -41,7 +41,8 @@ TEST(Respace, DegreeElevationKeepsGeometry) {
       const TensorSpline e = elevate_degree(box, dir, times);
       EXPECT_EQ(e.knots(dir).order(), box.knots(dir).order() + times);
       // Every interior knot gains `times` in multiplicity: continuity is kept.
-      EXPECT_EQ(e.num_ctrl(dir), box.num_ctrl(dir) + times * (1 + static_cast<int>(box.knots(dir).interior_breaks().size())));
+      EXPECT_EQ(e.num_ctrl(dir),
+                box.num_ctrl(dir) + times * (1 + static_cast<int>(box.knots(dir).interior_breaks().size())));
       EXPECT_LE(max_deviation(box, e, kSame, rng), 1e-12 * scale);
     }
   // Rational, periodic and unclamped directions: clamped first, then elevated exactly.
@@ -61,8 +62,8 @@ TEST(Respace, FinerSpaceKeepsGeometryAndSmallerIsRejected) {
   const TensorSpline r = respace(box, 1, KnotVector(4, finer));
   EXPECT_EQ(r.num_ctrl(1), box.num_ctrl(1) + 1);
   EXPECT_LE(max_deviation(box, r, kSame, rng), 1e-13);
-  EXPECT_THROW(respace(box, 1, KnotVector::bezier(4)), ModelError);  // drops interior knots
-  EXPECT_THROW(respace(box, 1, KnotVector::clamped_uniform(3, 8)), ModelError);  // lower order
+  EXPECT_THROW(respace(box, 1, KnotVector::bezier(4)), ModelError);                    // drops interior knots
+  EXPECT_THROW(respace(box, 1, KnotVector::clamped_uniform(3, 8)), ModelError);        // lower order
   EXPECT_THROW(respace(box, 1, KnotVector::clamped_uniform(4, 8, 0, 2)), ModelError);  // other domain
 }
 
@@ -91,15 +92,35 @@ TEST(Respace, ReparametrizeReverseAndPermuteMoveOnlyParameters) {
   EXPECT_DOUBLE_EQ(r.lo(2), -1.0);
   EXPECT_DOUBLE_EQ(r.hi(2), 3.0);
   const double a = rat.lo(2), b = rat.hi(2);
-  EXPECT_LE(max_deviation(rat, r, [&](std::array<double, 3> t) { t[2] = -1 + 4 * (t[2] - a) / (b - a); return t; }, rng), 1e-12);
+  EXPECT_LE(max_deviation(
+                rat, r,
+                [&](std::array<double, 3> t) {
+                  t[2] = -1 + 4 * (t[2] - a) / (b - a);
+                  return t;
+                },
+                rng),
+            1e-12);
   for (int dir = 0; dir < 3; ++dir) {
     const TensorSpline v = reversed(rat, dir);
     const double lo = rat.lo(dir), hi = rat.hi(dir);
-    EXPECT_LE(max_deviation(rat, v, [&](std::array<double, 3> t) { t[static_cast<std::size_t>(dir)] = lo + hi - t[static_cast<std::size_t>(dir)]; return t; }, rng), 1e-12);
+    EXPECT_LE(max_deviation(
+                  rat, v,
+                  [&](std::array<double, 3> t) {
+                    t[static_cast<std::size_t>(dir)] = lo + hi - t[static_cast<std::size_t>(dir)];
+                    return t;
+                  },
+                  rng),
+              1e-12);
   }
   const std::array<int, 3> order{2, 0, 1};
   const TensorSpline p = permuted(rat, order);
-  EXPECT_LE(max_deviation(rat, p, [](std::array<double, 3> t) { return std::array<double, 3>{t[2], t[0], t[1]}; }, rng), 1e-12);
+  EXPECT_LE(max_deviation(
+                rat, p,
+                [](std::array<double, 3> t) {
+                  return std::array<double, 3>{t[2], t[0], t[1]};
+                },
+                rng),
+            1e-12);
 }
 
 }  // namespace

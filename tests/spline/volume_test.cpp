@@ -16,7 +16,8 @@ namespace {
 
 Vec3 random_param(std::mt19937& rng, const ParamBox& d) {
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  return {d.lo.x + U(rng) * (d.hi.x - d.lo.x), d.lo.y + U(rng) * (d.hi.y - d.lo.y), d.lo.z + U(rng) * (d.hi.z - d.lo.z)};
+  return {d.lo.x + U(rng) * (d.hi.x - d.lo.x), d.lo.y + U(rng) * (d.hi.y - d.lo.y),
+          d.lo.z + U(rng) * (d.hi.z - d.lo.z)};
 }
 
 Volume random_rational_volume(std::mt19937& rng) { return Volume(test::random_rational_spline(rng)); }

@@ -39,11 +39,12 @@ Volume annulus_sector(double r0, double r1, double h) {
       for (int i = 0; i < 2; ++i) {
         std::vector<double> cp, cw;
         quarter_circle(i == 0 ? r0 : r1, k * h, cp, cw);
-        pts.insert(pts.end(), {cp[static_cast<std::size_t>(3 * j)], cp[static_cast<std::size_t>(3 * j + 1)], cp[static_cast<std::size_t>(3 * j + 2)]});
+        pts.insert(pts.end(), {cp[static_cast<std::size_t>(3 * j)], cp[static_cast<std::size_t>(3 * j + 1)],
+                               cp[static_cast<std::size_t>(3 * j + 2)]});
         w.push_back(cw[static_cast<std::size_t>(j)]);
       }
-  return Volume(TensorSpline({KnotVector::bezier(2), KnotVector::bezier(3), KnotVector::bezier(2)}, 3,
-                             std::move(pts), std::move(w)));
+  return Volume(TensorSpline({KnotVector::bezier(2), KnotVector::bezier(3), KnotVector::bezier(2)}, 3, std::move(pts),
+                             std::move(w)));
 }
 
 Volume cylinder_sector(double r, double h) { return annulus_sector(0.0, r, h); }
@@ -63,8 +64,8 @@ std::vector<double> greville_points(const KnotVector& kv) {
 }
 }  // namespace
 
-Volume twisted_bent_volume(const KnotVector& ku, const KnotVector& kv, const KnotVector& kw, Vec3 size,
-                           double twist, double bend) {
+Volume twisted_bent_volume(const KnotVector& ku, const KnotVector& kv, const KnotVector& kw, Vec3 size, double twist,
+                           double bend) {
   // The identity map, then a twist about the z axis and a bend along x deform it smoothly.
   const std::vector<double> gu = greville_points(ku), gv = greville_points(kv), gw = greville_points(kw);
   const double sx = size.x, sy = size.y, sz = size.z;

@@ -28,8 +28,8 @@ Volume twisted_bent_box(double sx, double sy, double sz, int ctrl = 8, int order
 // The same kind of shape over any clamped knot vectors on [0, 1] (non-uniform ones too): a
 // box of size `size` turned by `twist` radians about z over its height and bent along x by
 // `bend` times its width (twisted_bent_box is twist 0.35, bend 0.15).
-Volume twisted_bent_volume(const KnotVector& ku, const KnotVector& kv, const KnotVector& kw, Vec3 size,
-                           double twist, double bend);
+Volume twisted_bent_volume(const KnotVector& ku, const KnotVector& kv, const KnotVector& kw, Vec3 size, double twist,
+                           double bend);
 
 // A random rational trivariate with every kind of knot vector: unclamped in u (order 3),
 // periodic in v (IRIT [KVP, order 4, 5 points), clamped with an interior knot in w (order 2);

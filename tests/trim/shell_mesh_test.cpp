@@ -13,7 +13,7 @@ namespace {
 
 using test::Hexahedron;
 
-const Hexahedron kSkewed = {Vec3{0, 0, 0}, Vec3{4, 0.5, 0.2}, Vec3{-0.5, 3, 0.3}, Vec3{3.5, 3.5, -0.2},
+const Hexahedron kSkewed = {Vec3{0, 0, 0},     Vec3{4, 0.5, 0.2},   Vec3{-0.5, 3, 0.3},  Vec3{3.5, 3.5, -0.2},
                             Vec3{0.3, 0.2, 5}, Vec3{4.2, 0.4, 4.6}, Vec3{0.1, 3.3, 5.2}, Vec3{3.9, 3.6, 5.5}};
 
 TEST(ShellMesh, SixFacesOfAHexahedronAreClosed) {

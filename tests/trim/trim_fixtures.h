@@ -33,13 +33,12 @@ inline TrimShell hexahedron_shell(const Hexahedron& c, int leave_out = -1) {
   TrimShell s;
   s.name = "hexahedron";
   auto at = [&](int i, int j, int k) { return c[static_cast<std::size_t>(i + 2 * j + 4 * k)]; };
-  const std::array<TensorSpline, 6> faces = {
-      bilinear_surface(at(0, 0, 0), at(0, 0, 1), at(0, 1, 0), at(0, 1, 1)),
-      bilinear_surface(at(1, 0, 0), at(1, 1, 0), at(1, 0, 1), at(1, 1, 1)),
-      bilinear_surface(at(0, 0, 0), at(1, 0, 0), at(0, 0, 1), at(1, 0, 1)),
-      bilinear_surface(at(0, 1, 0), at(0, 1, 1), at(1, 1, 0), at(1, 1, 1)),
-      bilinear_surface(at(0, 0, 0), at(0, 1, 0), at(1, 0, 0), at(1, 1, 0)),
-      bilinear_surface(at(0, 0, 1), at(1, 0, 1), at(0, 1, 1), at(1, 1, 1))};
+  const std::array<TensorSpline, 6> faces = {bilinear_surface(at(0, 0, 0), at(0, 0, 1), at(0, 1, 0), at(0, 1, 1)),
+                                             bilinear_surface(at(1, 0, 0), at(1, 1, 0), at(1, 0, 1), at(1, 1, 1)),
+                                             bilinear_surface(at(0, 0, 0), at(1, 0, 0), at(0, 0, 1), at(1, 0, 1)),
+                                             bilinear_surface(at(0, 1, 0), at(0, 1, 1), at(1, 1, 0), at(1, 1, 1)),
+                                             bilinear_surface(at(0, 0, 0), at(0, 1, 0), at(1, 0, 0), at(1, 1, 0)),
+                                             bilinear_surface(at(0, 0, 1), at(1, 0, 1), at(0, 1, 1), at(1, 1, 1))};
   for (int f = 0; f < 6; ++f)
     if (f != leave_out) s.surfaces.push_back(faces[static_cast<std::size_t>(f)]);
   return s;

@@ -41,7 +41,7 @@ std::string_view to_string(InverseStatus s) noexcept;
 
 struct InverseResult {
   InverseStatus status = InverseStatus::kNoConvergence;
-  Vec3 uvw;               // last iterate (the solution when converged)
+  Vec3 uvw;  // last iterate (the solution when converged)
   // |V(uvw) - x| in model units, or an upper bound of it when the last Newton step was
   // certified rather than evaluated (polynomial volumes: see invert_from_neighbour).
   double residual = 0.0;

@@ -13,8 +13,8 @@
 namespace trivox {
 
 struct Patch {
-  std::string name;   // the object's name (IRIT) or "Geometry id=N" (G+Smo)
-  int id = 0;         // G+Smo id attribute, or the patch's index when the file has none
+  std::string name;     // the object's name (IRIT) or "Geometry id=N" (G+Smo)
+  int id = 0;           // G+Smo id attribute, or the patch's index when the file has none
   int source_line = 0;  // line in the file where the patch starts (1-based; 0 when unknown)
   TensorSpline spline;
 };

@@ -17,9 +17,10 @@ struct VolumeImage {
   std::vector<float> values;  // index ((z * ny + y) * nx + x) * channels + c
 
   float at(int x, int y, int z, int c) const noexcept {
-    return values[((static_cast<std::size_t>(z) * static_cast<std::size_t>(ny) +
-                    static_cast<std::size_t>(y)) * static_cast<std::size_t>(nx) +
-                   static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels) +
+    return values[((static_cast<std::size_t>(z) * static_cast<std::size_t>(ny) + static_cast<std::size_t>(y)) *
+                       static_cast<std::size_t>(nx) +
+                   static_cast<std::size_t>(x)) *
+                      static_cast<std::size_t>(channels) +
                   static_cast<std::size_t>(c)];
   }
   // Throws Error unless the sizes are >= 1, channels is 1..64, values has

@@ -13,12 +13,10 @@ namespace trivox {
 class CheckedMaterial final : public MaterialFunction {
  public:
   // Throws Error when `inner` is null or the policy is invalid.
-  CheckedMaterial(std::shared_ptr<const MaterialFunction> inner, FractionPolicy policy,
-                  MaterialSite site);
+  CheckedMaterial(std::shared_ptr<const MaterialFunction> inner, FractionPolicy policy, MaterialSite site);
 
   std::string_view kind() const noexcept override { return inner_->kind(); }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // The inner bounds, clamped to [0, 1]; lower bounds drop to 0 where a sum could exceed 1
   // (scaling down could lower any fraction).
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;

@@ -35,8 +35,7 @@ class BlendMaterial final : public MaterialFunction {
   // a and b: the same material count; weight: a scalar source. Throws Error otherwise.
   BlendMaterial(MaterialPtr a, MaterialPtr b, MaterialPtr weight);
   std::string_view kind() const noexcept override { return "blend"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   MaterialPtr a_, b_, weight_;
@@ -47,8 +46,7 @@ class ThresholdMaterial final : public MaterialFunction {
   // below and above: the same material count; source: a scalar source; level finite.
   ThresholdMaterial(MaterialPtr source, double level, MaterialPtr below, MaterialPtr above);
   std::string_view kind() const noexcept override { return "threshold"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   MaterialPtr source_;
@@ -67,8 +65,7 @@ class SelectMaterial final : public MaterialFunction {
   // or when a box is empty or not finite.
   SelectMaterial(std::vector<SelectRegion> regions, MaterialPtr otherwise, const ParamBox& cell_domain);
   std::string_view kind() const noexcept override { return "select"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   std::vector<SelectRegion> regions_;
@@ -80,8 +77,7 @@ class VoidMaskMaterial final : public MaterialFunction {
  public:
   VoidMaskMaterial(MaterialPtr material, MaterialPtr void_share);
   std::string_view kind() const noexcept override { return "void_mask"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   MaterialPtr material_, void_share_;
@@ -93,8 +89,7 @@ class TransferMaterial final : public MaterialFunction {
   // the same number of finite fractions each). Throws Error naming the rule.
   TransferMaterial(MaterialPtr source, std::vector<GradientStop> stops);
   std::string_view kind() const noexcept override { return "transfer"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   MaterialPtr source_;

@@ -14,8 +14,7 @@ class ConstantMaterial final : public MaterialFunction {
   explicit ConstantMaterial(std::vector<float> fractions);
 
   std::string_view kind() const noexcept override { return "constant"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
 
   const std::vector<float>& fractions() const noexcept { return fractions_; }

@@ -42,8 +42,7 @@ struct ExpressionParams {
 // in a constant's name. message(): muParser's message with the position in the expression.
 class ExpressionError : public Error {
  public:
-  ExpressionError(int index, const std::string& message)
-      : Error(message), index_(index) {}
+  ExpressionError(int index, const std::string& message) : Error(message), index_(index) {}
   int index() const noexcept { return index_; }
 
  private:
@@ -58,8 +57,7 @@ class ExpressionMaterial final : public MaterialFunction {
 
   std::string_view kind() const noexcept override { return "expression"; }
   // Non-finite results (0/0, sqrt(-1)) are passed on; the fraction policy rejects them.
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
   const ExpressionParams& params() const noexcept { return params_; }
 

@@ -26,8 +26,7 @@ class FieldScalarMaterial final : public MaterialFunction {
   FieldScalarMaterial(TensorSpline field, FieldScalarChoice choice, const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "field_scalar"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> values) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> values) const override;
 
  private:
   TensorSpline field_;

@@ -32,7 +32,6 @@ namespace trivox {
 // (a porous tile's colour, a curve's colour, a background).
 inline constexpr int kVoidMaterial = -1;
 
-
 // The affine map that sends the box `from` onto the box `to`, direction by direction:
 // p -> to.lo + (p - from.lo) * (to.hi - to.lo) / (from.hi - from.lo).
 struct AffineParamMap {
@@ -69,8 +68,7 @@ class MaterialFunction {
   // sample-major, fractions[s * m + j] = fraction of material j at sample s. Parameters
   // outside the cell's domain are clamped to it. Throws only where stated by the kind or
   // by CheckedMaterial.
-  virtual void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                            std::span<float> fractions) const = 0;
+  virtual void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const = 0;
 
   // Conservative bounds over a box of the cell's parameters (and any position): for every
   // p in `box` and every material j, lo[j] <= M_j(p) <= hi[j]. lo and hi hold m values each.
@@ -109,16 +107,16 @@ struct FractionPolicy {
 // Where a material function was defined, for the error the "error" policy throws:
 // InputError(source, 0, pointer, "cell '<cell>': <rule> at (u,v,w) = (...)").
 struct MaterialSite {
-  std::string source;   // the scene file
-  std::string pointer;  // JSON pointer of the cell's material, e.g. "/cells/2/material"
-  std::string cell;     // the cell's name
+  std::string source;                       // the scene file
+  std::string pointer;                      // JSON pointer of the cell's material, e.g. "/cells/2/material"
+  std::string cell;                         // the cell's name
   std::vector<std::string> material_names;  // names by index for messages (may be empty)
 };
 
 // Applies `policy` in place to n samples of m fractions (n = uvw.size(), the parameters
 // reported in errors). A fraction that is not a finite number is an error under both
 // policies. Allocation-free; throws InputError as described for MaterialSite.
-void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m,
-                           std::span<const Vec3> uvw, std::span<float> fractions);
+void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m, std::span<const Vec3> uvw,
+                           std::span<float> fractions);
 
 }  // namespace trivox

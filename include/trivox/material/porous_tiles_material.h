@@ -35,8 +35,7 @@ class PorousTilesMaterial final : public MaterialFunction {
   PorousTilesMaterial(PorousTilesParams params, int num_materials, const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "porous_tiles"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // Exact where the box lies in one tile and clear of (or inside) both cylinders; otherwise
   // [0, 1] for the materials of the tiles it meets.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;

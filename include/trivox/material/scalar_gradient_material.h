@@ -33,12 +33,10 @@ class ScalarGradientMaterial final : public MaterialFunction {
  public:
   // field: param_dim 3, point_dim 1. stops: at least one, values finite and non-decreasing,
   // every stop with the same number m of finite fractions. Throws Error naming the rule.
-  ScalarGradientMaterial(TensorSpline field, std::vector<GradientStop> stops,
-                         const ParamBox& cell_domain);
+  ScalarGradientMaterial(TensorSpline field, std::vector<GradientStop> stops, const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "scalar_gradient"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // Bounds the field by its control coefficients, then the ramp over that value interval.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
 

@@ -23,8 +23,7 @@ class SplineFieldMaterial final : public MaterialFunction {
                       const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "spline_field"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // Minimum and maximum control coefficients whose basis support meets the box (convex
   // hull property; NURBS weights are positive).
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;

@@ -23,10 +23,10 @@ struct TwistingCurvesParams {
     double u = 0.5, v = 0.5;  // position at w = 0, in [0,1]^2 units
     int material = 0;         // material index or kVoidMaterial
   };
-  std::vector<Point> points;     // at least one
-  double radius = 0.05;          // (u,v) distance, unit-square units, > 0
+  std::vector<Point> points;  // at least one
+  double radius = 0.05;       // (u,v) distance, unit-square units, > 0
   double centre_u = 0.5, centre_v = 0.5;
-  double turns_per_w = 0.0;      // full turns per unit of w
+  double turns_per_w = 0.0;  // full turns per unit of w
   double shift_u_per_w = 0.0, shift_v_per_w = 0.0;
   bool wrap_u = false, wrap_v = false;
   int background = kVoidMaterial;  // material index or kVoidMaterial
@@ -37,12 +37,10 @@ struct TwistingCurvesParams {
 
 class TwistingCurvesMaterial final : public MaterialFunction {
  public:
-  TwistingCurvesMaterial(TwistingCurvesParams params, int num_materials,
-                         const ParamBox& cell_domain);
+  TwistingCurvesMaterial(TwistingCurvesParams params, int num_materials, const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "twisting_curves"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // [0, 1] for the materials of the points and the background, 0 for the others.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
 

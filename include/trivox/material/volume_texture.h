@@ -66,8 +66,7 @@ class TextureMaterial final : public MaterialFunction {
                   const ParamBox& cell_domain);
 
   std::string_view kind() const noexcept override { return "texture"; }
-  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
-                    std::span<float> fractions) const override;
+  void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
 
  private:
   VolumeTexture texture_;

@@ -15,8 +15,8 @@ namespace trivox {
 struct Bmp1Image {
   int width_px = 0;
   int height_px = 0;
-  std::vector<std::uint8_t> bits;           // palette index (0 or 1) per pixel, row-major, top row first
-  std::uint32_t pixels_per_metre_x = 0;     // the resolution fields
+  std::vector<std::uint8_t> bits;        // palette index (0 or 1) per pixel, row-major, top row first
+  std::uint32_t pixels_per_metre_x = 0;  // the resolution fields
   std::uint32_t pixels_per_metre_y = 0;
 };
 

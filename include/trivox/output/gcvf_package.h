@@ -12,9 +12,9 @@
 namespace trivox {
 
 struct GcvfPackageSummary {
-  int entries = 0;           // every entry of the archive
-  int images = 0;            // the PNG entries
-  std::string config_xml;    // ConfigFile.xml; empty when the package has none
+  int entries = 0;         // every entry of the archive
+  int images = 0;          // the PNG entries
+  std::string config_xml;  // ConfigFile.xml; empty when the package has none
 };
 
 // Reads every entry of the package in archive order, checks it against its CRC-32, decodes

@@ -20,9 +20,9 @@ struct OutputContext {
   std::vector<std::string> material_names;  // scene materials, index j = label j + 1
   std::vector<std::array<std::uint8_t, 4>> material_rgba;
   std::array<std::uint8_t, 4> background_rgba{255, 255, 255, 255};
-  std::string prefix = "slice_";            // common file-name prefix
-  int total_layers = 1;                     // sets the zero padding of the numbers
-  int model_layers = 1;                     // layers 0..model_layers-1 hold the model; the rest are padding
+  std::string prefix = "slice_";  // common file-name prefix
+  int total_layers = 1;           // sets the zero padding of the numbers
+  int model_layers = 1;           // layers 0..model_layers-1 hold the model; the rest are padding
   // Pixel and layer pitch (mm), for outputs that show the stack at its true proportions.
   double pitch_x_mm = 1, pitch_y_mm = 1, layer_mm = 1;
   // Where the stack sits in model space (mm), for outputs that place it there: the left edge

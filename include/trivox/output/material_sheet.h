@@ -32,8 +32,7 @@ std::string material_sheet_csv(const std::array<std::uint8_t, 4>& background_rgb
 
 // Writes the sheet to `path` atomically (output/atomic_file.h). Throws IoError when it
 // cannot be written.
-void write_material_sheet(const std::filesystem::path& path,
-                          const std::array<std::uint8_t, 4>& background_rgba,
+void write_material_sheet(const std::filesystem::path& path, const std::array<std::uint8_t, 4>& background_rgba,
                           const std::vector<MaterialSheetRow>& materials);
 
 }  // namespace trivox

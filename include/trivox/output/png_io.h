@@ -1,6 +1,6 @@
 // PNG files for slices: 32-bit RGBA (the Voxel Print layer format), indexed-colour (the
-// previews), 8-bit grayscale and 1-bit grayscale writers, and a reader that turns any PNG into 8-bit RGBA (for tests and
-// for verifying what was written).
+// previews), 8-bit grayscale and 1-bit grayscale writers, and a reader that turns any PNG into 8-bit RGBA (for tests
+// and for verifying what was written).
 //
 // Pixels are row-major, top row first, no padding between rows; x runs along the image
 // width. Writes are atomic: the PNG goes to a temporary file beside the target
@@ -58,10 +58,9 @@ struct RgbaImage {
 // Writes colour type 6 (RGBA), bit depth 8. `rgba` holds width_px * height_px * 4 bytes.
 // Throws Error when a size is not positive or the span's length does not match, IoError
 // naming the path when the file cannot be written (the temporary file is then removed).
-void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px,
-                    std::span<const std::uint8_t> rgba, const PngWriteParams& params = {});
-void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image,
+void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> rgba,
                     const PngWriteParams& params = {});
+void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image, const PngWriteParams& params = {});
 
 // Writes the same file as write_png_rgba, asking for the pixels a row at a time: `fill_row(y,
 // row)` fills row y (width_px * 4 bytes), top row first, so that the whole RGBA image never
@@ -82,13 +81,12 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
 // Throws Error when a size is not positive, the span's length does not match, the palette is
 // empty or longer than 256, or an index is not below the palette's size; IoError as above.
 void write_png_indexed(const std::filesystem::path& path, int width_px, int height_px,
-                       std::span<const std::uint8_t> indices,
-                       std::span<const std::array<std::uint8_t, 3>> palette,
+                       std::span<const std::uint8_t> indices, std::span<const std::array<std::uint8_t, 3>> palette,
                        const PngWriteParams& params = {});
 
 // Writes colour type 0 (grayscale), bit depth 8: one byte per pixel.
-void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px,
-                     std::span<const std::uint8_t> gray, const PngWriteParams& params = {});
+void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> gray,
+                     const PngWriteParams& params = {});
 
 // Writes colour type 0, bit depth 1: one byte per pixel in `values`, nonzero = white (1).
 void write_png_gray1(const std::filesystem::path& path, int width_px, int height_px,

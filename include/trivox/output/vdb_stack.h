@@ -25,10 +25,10 @@ struct VdbGridSummary {
 
 struct VdbGridInfo {
   std::string name;
-  std::string value_type;            // OpenVDB's name of the value type, e.g. "float"
-  std::uint64_t active_voxels = 0;   // tiles counted voxel by voxel
-  std::array<int, 3> min{}, max{};   // index box of the active voxels (when there are any)
-  std::uint64_t memory_bytes = 0;    // what the grid takes in memory (OpenVDB's memUsage)
+  std::string value_type;           // OpenVDB's name of the value type, e.g. "float"
+  std::uint64_t active_voxels = 0;  // tiles counted voxel by voxel
+  std::array<int, 3> min{}, max{};  // index box of the active voxels (when there are any)
+  std::uint64_t memory_bytes = 0;   // what the grid takes in memory (OpenVDB's memUsage)
 };
 
 // Every grid of the file, in file order, read and decoded in full but summed up rather than

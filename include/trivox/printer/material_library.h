@@ -16,8 +16,8 @@
 namespace trivox {
 
 struct LibraryMaterial {
-  std::string_view name;         // as Stratasys writes it, e.g. "VeroCyan-V"
-  std::string_view family;       // "Vero", "VeroVivid", "VeroClear", "Agilus30", "Tango"
+  std::string_view name;             // as Stratasys writes it, e.g. "VeroCyan-V"
+  std::string_view family;           // "Vero", "VeroVivid", "VeroClear", "Agilus30", "Tango"
   std::array<std::uint8_t, 4> rgba;  // sRGB + alpha, a display approximation
 };
 

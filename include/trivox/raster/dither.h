@@ -116,12 +116,12 @@ bool set_dither_method(std::string_view name, DitherParams& params) noexcept;
 // Error diffusion allocates only the kernel's rows of error buffer (1 + the rows it reaches
 // below, of width_px * (m + 1) int32 each); a skin adds a depth plane and a mask per call.
 // Thread-safe for distinct outputs: no shared mutable state.
-void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params,
-            LabelImage& labels, int layer = 0);
+void dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params, LabelImage& labels,
+            int layer = 0);
 
 // As above, returning a new label image.
-LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside,
-                  const DitherParams& params = {}, int layer = 0);
+LabelImage dither(const MaterialGrid& fractions, const InsideMask& inside, const DitherParams& params = {},
+                  int layer = 0);
 
 namespace detail {
 // dither() for a grid whose filler checked every pixel it wrote with

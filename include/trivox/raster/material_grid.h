@@ -18,7 +18,6 @@
 
 namespace trivox {
 
-
 namespace detail {
 // Throws Error unless 0 <= width_px, height_px and the pixel count times `per_pixel` values
 // stays far from overflowing a size_t (2^40 values at most).
@@ -31,8 +30,7 @@ class PixelPlane {
  public:
   PixelPlane() = default;
   // Every pixel holds `fill`. Throws Error when a size is negative or absurdly large.
-  PixelPlane(int width_px, int height_px, T fill = T{})
-      : width_px_(width_px), height_px_(height_px) {
+  PixelPlane(int width_px, int height_px, T fill = T{}) : width_px_(width_px), height_px_(height_px) {
     detail::check_raster_size("pixel plane", width_px, height_px, 1);
     values_.assign(static_cast<std::size_t>(width_px) * static_cast<std::size_t>(height_px), fill);
   }
@@ -43,9 +41,7 @@ class PixelPlane {
   // Unchecked access; (x, y) must lie inside the plane.
   T& at(int x, int y) noexcept { return values_[index(x, y)]; }
   T at(int x, int y) const noexcept { return values_[index(x, y)]; }
-  std::span<T> row(int y) noexcept {
-    return {values_.data() + index(0, y), static_cast<std::size_t>(width_px_)};
-  }
+  std::span<T> row(int y) noexcept { return {values_.data() + index(0, y), static_cast<std::size_t>(width_px_)}; }
   std::span<const T> row(int y) const noexcept {
     return {values_.data() + index(0, y), static_cast<std::size_t>(width_px_)};
   }
@@ -58,8 +54,7 @@ class PixelPlane {
 
  private:
   std::size_t index(int x, int y) const noexcept {
-    return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px_) +
-           static_cast<std::size_t>(x);
+    return static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px_) + static_cast<std::size_t>(x);
   }
 
   int width_px_ = 0;
@@ -102,12 +97,8 @@ class MaterialGrid {
 
   // The num_materials fractions of pixel (x, y), which must lie inside the grid.
   std::span<float> pixel(int x, int y) noexcept { return {values_.data() + offset(x, y), m()}; }
-  std::span<const float> pixel(int x, int y) const noexcept {
-    return {values_.data() + offset(x, y), m()};
-  }
-  float& at(int x, int y, int material) noexcept {
-    return values_[offset(x, y) + static_cast<std::size_t>(material)];
-  }
+  std::span<const float> pixel(int x, int y) const noexcept { return {values_.data() + offset(x, y), m()}; }
+  float& at(int x, int y, int material) noexcept { return values_[offset(x, y) + static_cast<std::size_t>(material)]; }
   float at(int x, int y, int material) const noexcept {
     return values_[offset(x, y) + static_cast<std::size_t>(material)];
   }
@@ -133,9 +124,7 @@ class MaterialGrid {
  private:
   std::size_t m() const noexcept { return static_cast<std::size_t>(num_materials_); }
   std::size_t offset(int x, int y) const noexcept {
-    return (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px_) +
-            static_cast<std::size_t>(x)) *
-           m();
+    return (static_cast<std::size_t>(y) * static_cast<std::size_t>(width_px_) + static_cast<std::size_t>(x)) * m();
   }
 
   int width_px_ = 0;

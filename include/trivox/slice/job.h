@@ -29,7 +29,7 @@ struct JobParams {
   // Layers first..last (inclusive, 0-based); last < 0 means the model's last layer.
   int first_layer = 0;
   int last_layer = -1;
-  int threads = 0;  // 0 = all cores
+  int threads = 0;                                 // 0 = all cores
   std::vector<std::string> formats{"voxelprint"};  // see layer_writer.h
   std::string prefix = "slice_";
   std::array<std::uint8_t, 4> background_rgba{255, 255, 255, 255};

@@ -23,15 +23,15 @@ struct JobEstimate {
   int padded_layers = 0;  // empty layers added for min_layers
   int job_layers = 0;     // model + padded, divided among shards
   int width_px = 0, height_px = 0;
-  std::int64_t pixels = 0;          // voxels of every job layer of this shard
-  int files_per_layer = 0;          // from the formats
-  int whole_job_files = 0;          // files of the whole job: materials.csv and the stack outputs
-  int sampled_layers = 0;           // 0 when output size and time are not measured
-  std::uint64_t output_bytes = 0;   // layer files + whole-job files + manifest; from the samples
-  std::uint64_t scratch_bytes = 0;  // spool files of the stack outputs, on disk until the job ends
-  std::uint64_t peak_memory_bytes = 0;  // process now + per worker buffers x threads + stack outputs
+  std::int64_t pixels = 0;               // voxels of every job layer of this shard
+  int files_per_layer = 0;               // from the formats
+  int whole_job_files = 0;               // files of the whole job: materials.csv and the stack outputs
+  int sampled_layers = 0;                // 0 when output size and time are not measured
+  std::uint64_t output_bytes = 0;        // layer files + whole-job files + manifest; from the samples
+  std::uint64_t scratch_bytes = 0;       // spool files of the stack outputs, on disk until the job ends
+  std::uint64_t peak_memory_bytes = 0;   // process now + per worker buffers x threads + stack outputs
   std::uint64_t stack_memory_bytes = 0;  // the stack outputs' part of the peak (e.g. OpenVDB grids)
-  double seconds = 0;               // sample time per layer x layers / threads
+  double seconds = 0;                    // sample time per layer x layers / threads
   int threads = 0;
 };
 

@@ -19,7 +19,6 @@ void basis_derivatives(const KnotVector& kv, int span, double t, int n, double* 
 // A2.2 to degree p - 1, then the last step produces the values and, from the same degree
 // p - 1 functions, N'_{i,p} = p N_{i,p-1} / (t_{i+p} - t_i) - p N_{i+1,p-1} / (t_{i+p+1} - t_{i+1})
 // (The NURBS Book, Eq. 2.7). `values` and `derivs` each receive `order` values.
-void basis_first_derivatives(const KnotVector& kv, int span, double t, double* values,
-                             double* derivs) noexcept;
+void basis_first_derivatives(const KnotVector& kv, int span, double t, double* values, double* derivs) noexcept;
 
 }  // namespace trivox

@@ -21,8 +21,7 @@ std::pair<TensorSpline, TensorSpline> split(const TensorSpline& s, int dir, doub
 
 // The part of a spline over a parameter sub-box, clamped on every side: its control points
 // are the tight control hull of that piece (used for conservative bounds).
-TensorSpline restrict_to(const TensorSpline& s, std::span<const double> lo,
-                         std::span<const double> hi);
+TensorSpline restrict_to(const TensorSpline& s, std::span<const double> lo, std::span<const double> hi);
 
 // Unwraps periodic directions and clamps both ends of every direction, without changing the
 // geometry over the domain. A clamped spline is returned unchanged.

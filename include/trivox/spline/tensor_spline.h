@@ -39,9 +39,7 @@ class TensorSpline {
   std::span<const double> points() const noexcept { return points_; }
   std::span<const double> weights() const noexcept { return weights_; }
   // Linear index of control point (i, j, k), u fastest.
-  int ctrl_linear(int i, int j, int k) const noexcept {
-    return i + num_ctrl(0) * (j + num_ctrl(1) * k);
-  }
+  int ctrl_linear(int i, int j, int k) const noexcept { return i + num_ctrl(0) * (j + num_ctrl(1) * k); }
   std::span<const double> point(int i, int j = 0, int k = 0) const noexcept {
     return std::span<const double>(points_).subspan(
         static_cast<std::size_t>(ctrl_linear(i, j, k)) * static_cast<std::size_t>(point_dim_),
@@ -61,8 +59,7 @@ class TensorSpline {
 
   // Value and first partial derivatives: `value` gets point_dim values, `partials` gets
   // param_dim * point_dim values, partials[d * point_dim + c] = d(out_c)/d(t_d).
-  void evaluate_with_partials(std::span<const double> t, std::span<double> value,
-                              std::span<double> partials) const;
+  void evaluate_with_partials(std::span<const double> t, std::span<double> value, std::span<double> partials) const;
 
   // Conservative bounds (first 3 coordinates) of the image of the whole spline: the box of
   // its Euclidean control points.

@@ -18,7 +18,7 @@ namespace trivox {
 namespace detail {
 struct VolumeData;
 struct PowerForm;
-}
+}  // namespace detail
 
 // The two fast evaluators behind Volume::evaluate and evaluate_jacobian. Both are checked
 // against TensorSpline's general evaluator (the reference) in the tests.
@@ -67,7 +67,8 @@ class Volume {
 
   // V and its Jacobian at several parameters: evaluate_jacobian at each, one after the other.
   // The three spans have the same size.
-  void evaluate_jacobian_many(std::span<const Vec3> uvw, std::span<Vec3> values, std::span<Mat3> jacobians) const noexcept;
+  void evaluate_jacobian_many(std::span<const Vec3> uvw, std::span<Vec3> values,
+                              std::span<Mat3> jacobians) const noexcept;
 
   // Box of all Euclidean control points: contains the whole image.
   const Box3& bounds() const noexcept { return bounds_; }
