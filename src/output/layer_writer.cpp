@@ -107,27 +107,42 @@ class MaterialBitmapWriter final : public LayerWriter {
   OutputContext c_;
 };
 
+std::unique_ptr<LayerWriter> make_bitmaps_writer(const OutputContext& context) {
+  std::error_code ec;
+  std::filesystem::create_directories(context.dir / "bitmaps", ec);
+  if (ec) throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
+  return std::make_unique<MaterialBitmapWriter>(context);
+}
+
+// The registry: every output format by name, in the order the program lists them. A new
+// format is one row here (and its writer).
+struct LayerWriterFormat {
+  std::string_view name;
+  std::unique_ptr<LayerWriter> (*make)(const OutputContext&);
+};
+constexpr LayerWriterFormat kLayerWriterFormats[] = {
+    {"voxelprint",
+     [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); }},
+    {"bitmaps", make_bitmaps_writer},
+    {"legacy", detail::make_legacy_bitmap_writer},
+    {"tiff", detail::make_tiff_stack_writer},
+    {"vdb", detail::make_vdb_writer},
+    {"gcvf", detail::make_gcvf_writer},
+    {"preview", detail::make_preview_writer},
+};
+
 }  // namespace
 
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context) {
-  if (format == "voxelprint") return std::make_unique<VoxelPrintWriter>(context);
-  if (format == "bitmaps") {
-    std::error_code ec;
-    std::filesystem::create_directories(context.dir / "bitmaps", ec);
-    if (ec)
-      throw IoError(fmt::format("{}: cannot create folder: {}", (context.dir / "bitmaps").string(), ec.message()));
-    return std::make_unique<MaterialBitmapWriter>(context);
-  }
-  if (format == "preview") return detail::make_preview_writer(context);
-  if (format == "legacy") return detail::make_legacy_bitmap_writer(context);
-  if (format == "tiff") return detail::make_tiff_stack_writer(context);
-  if (format == "vdb") return detail::make_vdb_writer(context);
-  if (format == "gcvf") return detail::make_gcvf_writer(context);
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.make(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 
 std::vector<std::string> layer_writer_names() {
-  return {"voxelprint", "bitmaps", "legacy", "tiff", "vdb", "gcvf", "preview"};
+  std::vector<std::string> names;
+  for (const LayerWriterFormat& f : kLayerWriterFormats) names.emplace_back(f.name);
+  return names;
 }
 
 }  // namespace trivox
