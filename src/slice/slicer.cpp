@@ -20,13 +20,14 @@ namespace trivox {
 // One trivariate, inverted once per pixel and layer however many cells use it.
 struct Slicer::Trivariate {
   const Volume* volume;
-  detail::BoundaryMesh mesh;
+  SlicedMesh mesh;  // the outline mesh (boundary_mesh.h)
   GlobalSolver solver;
   // Traced for the whole layer before the cells (it trims some cell), rather than streamed
   // row by row for the one cell it parametrizes.
   bool traced_first = false;
 
-  Trivariate(const Volume& v, double tolerance_mm) : volume(&v), mesh(v, tolerance_mm), solver(v) {}
+  Trivariate(const Volume& v, double tolerance_mm)
+      : volume(&v), mesh(detail::build_boundary_mesh(v, tolerance_mm).mesh), solver(v) {}
 };
 
 struct Slicer::CellData {
@@ -229,7 +230,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   const auto owned_pixels = several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
   std::vector<int> owner(owned_pixels, -1);
   std::vector<std::uint8_t> owner_gave_material(owned_pixels, 0);
-  std::vector<detail::Segment2> segments;
+  std::vector<Segment2> segments;
   detail::RowSpans spans;
   detail::TracedRow kept;
   std::vector<float> fractions;
@@ -268,14 +269,14 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     });
     counters += tracer.counters();
   }
-  std::vector<ShellSegment> shell_segments;
-  std::vector<detail::Segment2> outline_segments;
+  std::vector<Segment2> shell_segments;
+  std::vector<Segment2> outline_segments;
   detail::RowSpans outline_spans;
   std::vector<std::array<Vec3, 3>> slab_triangles;
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses)
       if (k.shell_slot >= 0) {
-        k.mesh->cut(st.z_mm, shell_segments);
+        k.mesh->mesh().cut(st.z_mm, shell_segments);
         if (trims.shell_rows.size() <= static_cast<std::size_t>(k.shell_slot))
           trims.shell_rows.resize(static_cast<std::size_t>(k.shell_slot) + 1);
         detail::shell_row_crossings(shell_segments, L, trims.shell_rows[static_cast<std::size_t>(k.shell_slot)]);
@@ -344,11 +345,9 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
         const double margin = 2.0 * outline_tolerance_mm_;
         for (const auto& k : cd.clauses) {
           if (!k.outline) continue;
-          k.outline->cut(st.z_mm, shell_segments);
-          outline_segments.clear();
-          for (const ShellSegment& s : shell_segments) outline_segments.push_back({s.x0, s.y0, s.x1, s.y1});
+          k.outline->mesh().cut(st.z_mm, outline_segments);
           detail::candidate_spans(outline_segments, L, margin, outline_spans);
-          k.outline->slab(st.z_mm - margin, st.z_mm + margin, slab_triangles);
+          k.outline->mesh().slab(st.z_mm - margin, st.z_mm + margin, slab_triangles);
           detail::add_slab_spans(slab_triangles, st.z_mm - margin, st.z_mm + margin, L, margin, outline_spans);
           detail::merge_spans(outline_spans);
           detail::intersect_spans(spans, outline_spans);
