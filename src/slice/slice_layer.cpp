@@ -24,7 +24,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
 
   // The buffers are not handed back when the layer throws: a buffer in the pool is always
   // all zero.
-  LayerWork w{st, take_buffers()};
+  LayerWork w(st, take_buffers());
   w.several_cells = cells_.size() > 1;
   const auto owned_pixels = w.several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
   w.owner.assign(owned_pixels, -1);
@@ -64,7 +64,7 @@ void Slicer::trace_trimming_volumes(LayerWork& w) const {
     in.assign(static_cast<std::size_t>(w.stats.pixels_total), 0);
     tv.mesh.cut(w.stats.z_mm, w.segments);
     if (w.segments.empty()) continue;
-    detail::candidate_spans(w.segments, L, 2.0 * outline_tolerance_mm_, w.spans);
+    detail::candidate_spans(w.segments, L, tv.band_mm, w.spans);
     detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
     tracer.trace_layer(L, w.stats.z_mm, w.spans, [&](int r, const detail::TracedRow& row) {
       rows[static_cast<std::size_t>(r)] = row;
@@ -119,7 +119,7 @@ bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
   tv.mesh.cut(w.stats.z_mm, w.segments);
   if (w.segments.empty()) return false;
-  detail::candidate_spans(w.segments, layout_, 2.0 * outline_tolerance_mm_, w.spans);
+  detail::candidate_spans(w.segments, layout_, tv.band_mm, w.spans);
   if (cd.model_space_clauses && params_.model_space_narrowing) narrow_to_model_space_clauses(cd, w);
   if (cd.parametric_outlines && params_.parametric_outlines) narrow_to_parametric_outlines(cd, w);
   return true;

@@ -20,13 +20,17 @@ namespace trivox {
 // One trivariate, inverted once per pixel and layer however many cells use it.
 struct Slicer::Trivariate {
   const Volume* volume;
-  SlicedMesh mesh;  // the outline mesh (boundary_mesh.h)
   GlobalSolver solver;
+  Box3 image;       // the tight box of V over its domain (GlobalSolver::image_bounds)
+  SlicedMesh mesh;  // the outline mesh (boundary_mesh.h)
+  // Half-width (mm) of the band around the outline whose pixels the exact inverse decides:
+  // twice the mesh's distance from the true boundary.
+  double band_mm = 0;
   // Traced for the whole layer before the cells (it trims some cell), rather than streamed
   // row by row for the one cell it parametrizes.
   bool traced_first = false;
 
-  Trivariate(const Volume& v, SlicedMesh outline) : volume(&v), mesh(std::move(outline)), solver(v) {}
+  explicit Trivariate(const Volume& v) : volume(&v), solver(v) {}
 };
 
 struct Slicer::CellData {
@@ -39,6 +43,7 @@ struct Slicer::CellData {
     // model space (the pixels it keeps lie inside it, or within the outline margin).
     std::shared_ptr<const ShellMesh> outline;
     int shell_slot = -1;  // kShell: index of its cut in the layer's cuts
+    const TrimClause* source = nullptr;
   };
   const Cell* cell;
   int trivariate;
@@ -67,6 +72,8 @@ struct Slicer::LayerBuffers {
 // the owners of overlapping cells' pixels, scratch reused from cell to cell, the counters
 // and the stage clock.
 struct Slicer::LayerWork {
+  LayerWork(LayerStats& s, std::unique_ptr<LayerBuffers> b) : stats(s), buffers(std::move(b)) {}
+
   LayerStats& stats;
   std::unique_ptr<LayerBuffers> buffers;
   // With one cell, a pixel's owner is that cell wherever the pixel is inside: no per-pixel
