@@ -129,6 +129,7 @@ void run(const SliceOptions& so) {
   job.manifest_interval_seconds = so.manifest_interval_s;
 
   const Scene scene = read_scene(o.scene);
+  warn_about_printer(scene);
   const SliceParams params = slice_params_of(o, scene);
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();

@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "job_outputs.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
@@ -100,7 +101,9 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"formats", fmt::format("{}", fmt::join(params.formats, ","))},
       {"preview_layers", fmt::format("{}", fmt::join(params.preview_layers, ","))},
       {"prefix", params.prefix},
-      {"background_rgba", rgba_text(params.background_rgba)},
+      {"background_rgba", rgba_text(job_background(scene, params))},
+      {"gcvf", fmt::format("names={} unused={} stl={} bbox={}", params.gcvf.material_codes ? "codes" : "scene",
+                           params.gcvf.omit_unused ? "omit" : "list", params.gcvf.mesh_stl, params.gcvf.bounding_box)},
       {"png_zlib_level", fmt::format("{}", params.png.zlib_level)},
       {"png_filter", std::string(to_string(params.png.filter))},
       {"png_strategy", std::string(to_string(params.png.strategy))},
@@ -129,6 +132,9 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(
         fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
+  if (params.background_rgba && (*params.background_rgba)[3] != 255)
+    throw Error(fmt::format("the background's alpha is {}: printer images are opaque, so it must be 255",
+                            (*params.background_rgba)[3]));
   const LayerRange range = layer_range(slicer.layout(), params);
   for (int layer : params.preview_layers)
     if (layer < range.first || layer > range.last)
@@ -173,23 +179,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   stats.padded_layers = range.padded;
   stats.layers_kept = static_cast<int>(std::count(kept.begin(), kept.end(), 1));
 
-  OutputContext ctx;
-  ctx.dir = params.output_dir;
-  for (const MaterialDef& m : scene.materials) {
-    ctx.material_names.push_back(m.name);
-    ctx.material_rgba.push_back(m.rgba);
-  }
-  ctx.background_rgba = params.background_rgba;
-  ctx.prefix = params.prefix;
-  ctx.total_layers = total_files;
-  ctx.model_layers = range.count;
-  ctx.pitch_x_mm = L.pitch_x_mm;
-  ctx.pitch_y_mm = L.pitch_y_mm;
-  ctx.layer_mm = L.layer_mm;
-  ctx.x0_mm = L.x0_mm;
-  ctx.y_top_mm = L.y_top_mm;
-  ctx.z0_mm = L.z0_mm + range.first * L.layer_mm;
-  ctx.png = params.png;
+  const OutputContext ctx =
+      detail::job_output_context(slicer, params, params.output_dir, total_files, range.count, range.first);
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
   if (!params.preview_layers.empty()) {
@@ -213,11 +204,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   // The colour-to-material sheet depends only on the scene and the settings: written first,
   // listed with the whole-job files when the job completes.
   const std::string sheet_name = "materials.csv";
-  {
-    std::vector<MaterialSheetRow> sheet;
-    for (const MaterialDef& m : scene.materials) sheet.push_back({m.name, m.library, m.rgba});
-    write_material_sheet(params.output_dir / sheet_name, params.background_rgba, sheet);
-  }
+  write_material_sheet(params.output_dir / sheet_name, ctx.background_rgba, detail::job_material_sheet(scene));
 
   // Everything below runs under `record_mutex`: the manifest, the file list, the stats and
   // the progress count change together as each layer completes.
@@ -270,10 +257,13 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
       if (stop_requested()) return;
       if (t >= pending.size()) {
         const int index = refeed[t - pending.size()];
-        const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
-                                                      : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
+        LayerResult r;
+        if (index < range.count)
+          r = slicer.slice_layer(range.first + index);
+        else
+          r.labels = LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
         for (const auto& w : writers)
-          if (w->needs_whole_stack()) w->write_layer(index, labels);
+          if (w->needs_whole_stack()) write_layer_to(*w, index, r.labels, r.grey);
         return;
       }
       const int index = pending[t];
@@ -281,14 +271,14 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
       if (index < range.count) {
         LayerResult r = slicer.slice_layer(range.first + index);
         for (const auto& w : writers) {
-          auto files = w->write_layer(index, r.labels);
+          auto files = write_layer_to(*w, index, r.labels, r.grey);
           written.insert(written.end(), files.begin(), files.end());
         }
         record(index, std::move(written), std::move(r.stats));
       } else {
         const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
         for (const auto& w : writers) {
-          auto files = w->write_layer(index, empty);
+          auto files = write_layer_to(*w, index, empty, GreyImage());
           written.insert(written.end(), files.begin(), files.end());
         }
         record(index, std::move(written), std::nullopt);

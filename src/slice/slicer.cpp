@@ -10,6 +10,7 @@
 
 #include "boundary_mesh.h"
 #include "cell_tracer.h"
+#include "coverage.h"
 #include "scanline.h"
 #include "trivox/error.h"
 #include "trivox/raster/dither.h"
@@ -198,9 +199,14 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   // The meshes lie within the tolerance of the true boundary; the layout keeps a margin of at
   // least a quarter of the finest pitch.
   const double margin_mm = std::max(outline_tolerance_mm_, 0.25 * finest_pitch_mm);
-  const Vec3 grow{margin_mm, margin_mm, margin_mm};
+  // A masked-resin printer builds from its platform: the first layer starts at the model's
+  // bottom, as slicers for these printers lay it.
+  const Vec3 grow{margin_mm, margin_mm, scene.printer.display ? 0.0 : margin_mm};
   if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
   layout_ = make_layout(bounds, scene.printer);
+  // Greyscale: anti-aliased edges (coverage.h).
+  if (scene.greyscale && scene.greyscale->antialiasing > 1)
+    coverage_ = std::make_unique<detail::EdgeCoverage>(scene, params_, layout_);
 }
 
 Slicer::~Slicer() = default;
@@ -234,6 +240,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   detail::TracedRow kept;
   std::vector<float> fractions;
   detail::TraceCounters counters;
+  // Greyscale from a scalar source (coverage.h): its value per pixel, where a cell gives material.
+  std::vector<float> grey_values, grey_scratch;
+  if (scene_.greyscale && scene_.greyscale->material < 0)
+    grey_values.assign(static_cast<std::size_t>(st.pixels_total), 0.0f);
 
   using Clock = std::chrono::steady_clock;
   auto lap = [](Clock::time_point& t) {
@@ -383,6 +393,8 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
       // (CheckedMaterial); the copy into the grid below checks what reaches the dithering.
       cd.cell->material->evaluate_row(row->uvw, row->xyz,
                                       std::span<float>(fractions).first(n * static_cast<std::size_t>(m)));
+      if (cd.cell->grey_source)
+        detail::grey_source_row(*cd.cell->grey_source, *row, fractions, m, r, L.width_px, grey_values, grey_scratch);
       // A traced row's columns increase: its span is its first and last.
       auto& [first_written, last_written] = buffers->written[static_cast<std::size_t>(r)];
       const bool row_unwritten = first_written > last_written;
@@ -427,6 +439,11 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
 
   st.seconds_inverse += lap(t);
   detail::dither_checked_grid(grid, inside, dither_, result.labels, layer);
+  // Greyscale (coverage.h): every pixel's grey from the grid, the edge pixels' from sub-samples.
+  if (scene_.greyscale) {
+    result.grey = detail::grey_from_grid(grid, buffers->written, *scene_.greyscale, grey_values);
+    if (coverage_) coverage_->antialias(layer, result.grey);
+  }
   st.seconds_dither = lap(t);
   st.voxels_per_material.assign(static_cast<std::size_t>(m), 0);
   // Outside the written spans every pixel is outside and void.
