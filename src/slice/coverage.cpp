@@ -57,9 +57,10 @@ GreyImage grey_from_grid(const MaterialGrid& grid, const std::vector<std::pair<i
 
 struct EdgeCoverage::Trivariate {
   const Volume* volume;
-  BoundaryMesh mesh;
+  SlicedMesh mesh;  // the outline mesh at the sub-sample grid's tolerance (boundary_mesh.h)
   GlobalSolver solver;
-  Trivariate(const Volume& v, double tolerance_mm) : volume(&v), mesh(v, tolerance_mm), solver(v) {}
+  Trivariate(const Volume& v, double tolerance_mm)
+      : volume(&v), mesh(build_boundary_mesh(v, tolerance_mm).mesh), solver(v) {}
 };
 
 struct EdgeCoverage::CellData {
@@ -176,10 +177,6 @@ void mark_band(const Segment2& s, const SliceLayout& L, double margin, std::vect
   }
 }
 
-void add_shell_segments(const std::vector<ShellSegment>& in, std::vector<Segment2>& out) {
-  for (const ShellSegment& s : in) out.push_back({s.x0, s.y0, s.x1, s.y1});
-}
-
 }  // namespace
 
 std::int64_t EdgeCoverage::antialias(int layer, GreyImage& grey) const {
@@ -191,23 +188,20 @@ std::int64_t EdgeCoverage::antialias(int layer, GreyImage& grey) const {
 
   // 1. The edge pixels: near the cut of any outline.
   std::vector<std::vector<Segment2>> cuts(trivariates_.size());
-  std::vector<std::vector<ShellSegment>> shell_cuts(static_cast<std::size_t>(shell_slots_));
+  std::vector<std::vector<Segment2>> shell_cuts(static_cast<std::size_t>(shell_slots_));
   std::vector<std::uint8_t> in_band(width * static_cast<std::size_t>(L.height_px), 0);
   for (std::size_t t = 0; t < trivariates_.size(); ++t) {
     trivariates_[t]->mesh.cut(z, cuts[t]);
     for (const Segment2& s : cuts[t]) mark_band(s, L, margin, in_band);
   }
-  std::vector<ShellSegment> shell_segments;
-  std::vector<Segment2> flat;
+  std::vector<Segment2> shell_segments;
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses) {
       const ShellMesh* outline = k.shell_slot >= 0 ? k.mesh.get() : k.outline.get();
       if (outline == nullptr) continue;
-      outline->cut(z, shell_segments);
+      outline->mesh().cut(z, shell_segments);
       if (k.shell_slot >= 0) shell_cuts[static_cast<std::size_t>(k.shell_slot)] = shell_segments;
-      flat.clear();
-      add_shell_segments(shell_segments, flat);
-      for (const Segment2& s : flat) mark_band(s, L, margin, in_band);
+      for (const Segment2& s : shell_segments) mark_band(s, L, margin, in_band);
     }
   std::vector<int> band_index(in_band.size(), -1);
   std::vector<std::pair<int, int>> band;  // (col, row), row-major

@@ -1,20 +1,31 @@
 #include "job_outputs.h"
 
+#include "job_parts.h"
+
 #include <algorithm>
 #include <cstring>
 
 #include <fmt/format.h>
 
-#include "output/stack_writers.h"
 #include "trivox/error.h"
 
 namespace trivox {
+
+namespace {
+
+// A colour as the printer images show it: opaque.
+std::array<std::uint8_t, 4> opaque(std::array<std::uint8_t, 4> rgba) {
+  rgba[3] = 255;
+  return rgba;
+}
+
+}  // namespace
 
 std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& params) {
   if (params.background_rgba) return *params.background_rgba;
   auto taken = [&](const std::array<std::uint8_t, 4>& c) {
     for (const MaterialDef& m : scene.materials)
-      if (detail::opaque(m.rgba) == c) return true;
+      if (opaque(m.rgba) == c) return true;
     return false;
   };
   // Black, as the public packages write it, else white, else the greys from black up.
@@ -29,10 +40,14 @@ std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& 
 
 namespace detail {
 
-OutputContext job_output_context(const Slicer& slicer, const JobParams& params, const std::filesystem::path& dir,
-                                 int total_layers, int model_layers, int first_layer) {
+// The context of the job's writers: the scene's materials and printer (with the greyscale
+// block's exposure), the background in effect, the bitmap and its placement, the package's
+// options and extra members.
+OutputContext job_output_context(const Slicer& slicer, const JobParams& params, const std::filesystem::path& dir) {
   const Scene& scene = slicer.scene();
   const SliceLayout& L = slicer.layout();
+  const LayerRange range = layer_range(L, params);
+  const int total_layers = range.total(), model_layers = range.count, first_layer = range.first;
   OutputContext ctx;
   ctx.dir = dir;
   for (const MaterialDef& m : scene.materials) {

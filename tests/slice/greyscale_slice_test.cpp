@@ -153,7 +153,9 @@ void expect_within_bounds(const EdgeErrors& e, int k, const std::string& what, b
   EXPECT_GT(e.edge_pixels, 60) << what;
   EXPECT_LE(e.largest, kGrey / (2.0 * k) + 1.0) << what << ", k = " << k;
   EXPECT_LE(e.largest_corner, kGrey / k + 1.0) << what << ", k = " << k;
-  if (offsets_vary) EXPECT_LE(e.mean, kGrey / (k * k)) << what << ", k = " << k;
+  if (offsets_vary) {
+    EXPECT_LE(e.mean, kGrey / (k * k)) << what << ", k = " << k;
+  }
   EXPECT_EQ(e.interior_mismatches, 0) << what << ", k = " << k;
   ::testing::Test::RecordProperty(
       fmt::format("{}_k{}", what, k),

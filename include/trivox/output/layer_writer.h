@@ -8,10 +8,10 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <optional>
-#include <utility>
 
 #include "trivox/output/png_io.h"
 #include "trivox/printer/printer_profile.h"
@@ -150,6 +150,12 @@ std::vector<std::string> write_layer_to(const LayerWriter& writer, int index, co
 // The grey levels a greyscale output writes for a layer: `grey` when it has the labels' size,
 // else 255 wherever a label holds a material and 0 elsewhere.
 GreyImage exposure_of(const LabelImage& labels, const GreyImage& grey);
+
+// Display-colour PNGs of chosen layers at their true proportions, preview/layer_NNNNN.png
+// (`trivox slice --preview`; layer_preview_writer.cpp). `layers` pairs a job layer index
+// with the model layer number (1-based) its file is named after.
+std::unique_ptr<LayerWriter> make_layer_preview_writer(const OutputContext& context,
+                                                       std::vector<std::pair<int, int>> layers);
 
 // Zero-padded layer number for file names: at least 5 digits.
 std::string layer_number(int index, int total_layers);

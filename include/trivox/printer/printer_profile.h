@@ -54,9 +54,9 @@ struct PrinterProfile {
   int max_materials = 6;
   // The printer family the profile belongs to: "j750", "j850", "sl1", "sl1s"; empty for a
   // custom printer. The family's print modes (printer_family_modes) decide the layer warning.
-  std::string family;
+  std::string family{};
   // The display of a masked-resin printer; none for the others.
-  std::optional<MaskedDisplay> display;
+  std::optional<MaskedDisplay> display{};
 
   // Centre-to-centre pixel distances, in millimetres.
   double pitch_x_mm() const noexcept { return 25.4 / x_dpi; }
