@@ -129,6 +129,7 @@ void run(const SliceOptions& so) {
   job.manifest_interval_seconds = so.manifest_interval_s;
 
   const Scene scene = read_scene(o.scene, &g_stop);
+  warn_about_printer(scene);
   SliceParams params = slice_params_of(o, scene);
   params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);

@@ -24,6 +24,7 @@ void run_validate(const ValidateOptions& v) {
   const JobOptions& o = v.job;
   const JobParams job = job_params_of(o);
   const Scene scene = read_scene(o.scene);
+  warn_about_printer(scene);
   const Slicer slicer(scene, slice_params_of(o, scene));
   const JobEstimate e = estimate_job(slicer, job, EstimateParams{v.samples});
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
