@@ -208,6 +208,10 @@ Slicer::~Slicer() = default;
 LayerResult Slicer::slice_layer(int layer) const { return slice_layer(layer, nullptr); }
 
 LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
+  return slice_layer(layer, owner_out, nullptr);
+}
+
+LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out, LayerRasters* rasters) const {
   const auto start = std::chrono::steady_clock::now();
   const SliceLayout& L = layout_;
   const int m = scene_.num_materials();
@@ -426,6 +430,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   }
 
   st.seconds_inverse += lap(t);
+  if (rasters) {
+    rasters->fractions = grid;
+    rasters->inside = inside;
+  }
   detail::dither_checked_grid(grid, inside, dither_, result.labels, layer);
   st.seconds_dither = lap(t);
   st.voxels_per_material.assign(static_cast<std::size_t>(m), 0);
