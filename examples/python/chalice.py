@@ -73,7 +73,8 @@ def main():
     args = parser.parse_args()
 
     scene = chalice_scene(verbose=True)
-    print(f"{scene}: cells {', '.join(c.name for c in scene.cells)}")
+    cells = ", ".join(c.name for c in scene.cells)
+    print(f"{scene}: cells {cells}")
     os.makedirs(args.out, exist_ok=True)
     scene.save(os.path.join(args.out, "chalice.json"))
     first, last = (int(x) for x in args.layers.split(":"))

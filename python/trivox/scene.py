@@ -352,7 +352,9 @@ class Scene:
         return self.handle.evaluate_material(cell, params)
 
     def __repr__(self) -> str:
-        return f"<trivox.Scene {self._source!r}: {len(self.handle.cells)} cells, {self.num_materials} materials>"
+        if self._handle is None:
+            return f"<trivox.Scene {self._source!r} (not read yet)>"
+        return f"<trivox.Scene {self._source!r}: {len(self._handle.cells)} cells, {self.num_materials} materials>"
 
 
 def _raw_cell(cell: Any) -> Any:
