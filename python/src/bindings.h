@@ -16,6 +16,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -76,6 +77,20 @@ Vec3Batch vec3_batch(const py::handle& obj, const char* what);
 
 // A new float64 array of shape lead + tail.
 py::array_t<double> new_doubles(const std::vector<py::ssize_t>& lead, std::initializer_list<py::ssize_t> tail);
+
+// Releases the GIL for the bulk work on n points when it is worth it: below kGilBatch points
+// the work takes less time than handing the GIL to another thread and taking it back (which
+// can wait for the other thread's switch interval), so small calls keep it.
+inline constexpr std::size_t kGilBatch = 64;
+class ReleaseForBatch {
+ public:
+  explicit ReleaseForBatch(std::size_t n) {
+    if (n >= kGilBatch) release_.emplace();
+  }
+
+ private:
+  std::optional<py::gil_scoped_release> release_;
+};
 
 // One Vec3 from any sequence of three numbers.
 Vec3 to_vec3(const py::handle& obj, const char* what);

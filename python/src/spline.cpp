@@ -296,7 +296,7 @@ py::array_t<double> volume_evaluate(const PyVolume& self, const py::handle& para
   const std::span<const Vec3> p = in.points();
   Vec3* o = reinterpret_cast<Vec3*>(out.mutable_data());
   {
-    py::gil_scoped_release release;
+    const ReleaseForBatch release(p.size());
     for_chunks(p.size(), threads, [&](std::size_t b, std::size_t e) {
       self.volume.evaluate_many(p.subspan(b, e - b), std::span<Vec3>(o + b, e - b));
     });
@@ -314,7 +314,7 @@ py::object volume_jacobian(const PyVolume& self, const py::handle& params, bool 
   static_assert(sizeof(Mat3) == 9 * sizeof(double));
   Mat3* j = reinterpret_cast<Mat3*>(jac.mutable_data());
   {
-    py::gil_scoped_release release;
+    const ReleaseForBatch release(p.size());
     for_chunks(p.size(), threads, [&](std::size_t b, std::size_t e) {
       self.volume.evaluate_jacobian_many(p.subspan(b, e - b), std::span<Vec3>(v + b, e - b),
                                          std::span<Mat3>(j + b, e - b));
@@ -363,7 +363,7 @@ py::object volume_invert(const PyVolume& self, const py::handle& points, const p
   double* r = residual.mutable_data();
   std::int32_t* it = iterations.mutable_data();
   {
-    py::gil_scoped_release release;
+    const ReleaseForBatch release(xs.size());
     for_chunks(xs.size(), threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
         const InverseResult res = invert(self.volume, xs[i], hs ? hs[i] : one_hint, params);
@@ -621,8 +621,9 @@ Volume(spline, *, power_form=True)
 The arguments are those of Spline (three directions, point dimension 3). power_form=False
 keeps the de Boor kernel even where the power form would be used.
 Every bulk call takes an array whose last axis has length 3 (any leading shape), releases the
-GIL and runs over the points on `threads` workers (0: every core; small batches run on the
-calling thread), with the same bits for any thread count.
+GIL (for 64 points or more) and runs over the points on `threads` workers (0: every core;
+batches of up to 4096 points run on the calling thread), with the same bits for any thread
+count.
 )doc")
       .def(py::init([](const TensorSpline& s, bool power_form) {
              VolumeOptions o;

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import trivox
-from conftest import EXAMPLES, SCENES, run_cli
+from conftest import SCENES, run_cli
 
 SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
 

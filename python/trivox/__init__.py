@@ -124,4 +124,18 @@ def insert_knot(x: Any, dir: Any, t: float, times: int = 1) -> Any:  # noqa: A00
     return _same_kind(x, lambda s: s.insert_knot(dir, t, times))
 
 
-__all__ = [name for name in dir() if not name.startswith("_") and name not in ("annotations", "Any")]
+__all__ = [
+    "Blend", "Cell", "CellInfo", "Constant", "Constructed", "ConstructionReport", "Error",
+    "Expression", "ExpressionError", "FieldScalar", "Function", "GlobalInversion", "GlobalStatus",
+    "InputError", "InverseStatus", "Inversion", "IoError", "JacobianReport", "JobResult", "Layer",
+    "Layout", "MaterialDef", "MaterialFunction", "Model", "ModelError", "NamedVolume", "Patch",
+    "PngImage", "PorousTiles", "RawImage", "Region", "ScalarGradient", "Scene", "Select", "Shell",
+    "Slicer", "Spline", "SplineField", "Texture", "TextureChannel", "Threshold", "TiffImage",
+    "Transfer", "Trim", "TwistingCurves", "Union", "UnsupportedError", "VoidMask", "Volume",
+    "__version__", "arrange_cube_faces", "coons", "elevate_degree", "extrude", "find_library_material",
+    "formats",
+    "insert_knot", "inspect_volume", "join_surfaces", "material_library", "materials",
+    "printer_profile", "printer_profile_names", "read", "read_gismo_xml", "read_itd", "read_png",
+    "read_scene", "revolve", "ruled", "scene", "shell", "slice", "slice_layer", "slicing", "sweep",
+    "thick_shell", "to_itd", "untangle", "write", "write_png",
+]
