@@ -265,18 +265,18 @@ void bind_slice(py::module_& m) {
                           "Where each layer and pixel of a job lies in model space (mm): pixel (col, row) samples "
                           "x = x0_mm + (col + 0.5) pitch_x_mm, y = y_top_mm - (row + 0.5) pitch_y_mm (row 0 on "
                           "top); layer l samples z = z0_mm + (l + 0.5) layer_mm.")
-      .def_readonly("x0_mm", &SliceLayout::x0_mm)
-      .def_readonly("y_top_mm", &SliceLayout::y_top_mm)
-      .def_readonly("z0_mm", &SliceLayout::z0_mm)
-      .def_readonly("pitch_x_mm", &SliceLayout::pitch_x_mm)
-      .def_readonly("pitch_y_mm", &SliceLayout::pitch_y_mm)
-      .def_readonly("layer_mm", &SliceLayout::layer_mm)
-      .def_readonly("width_px", &SliceLayout::width_px)
-      .def_readonly("height_px", &SliceLayout::height_px)
-      .def_readonly("num_layers", &SliceLayout::num_layers)
-      .def("x_of_col", &SliceLayout::x_of_col, py::arg("col"))
-      .def("y_of_row", &SliceLayout::y_of_row, py::arg("row"))
-      .def("z_of_layer", &SliceLayout::z_of_layer, py::arg("layer"))
+      .def_readonly("x0_mm", &SliceLayout::x0_mm, "The left edge of column 0 (mm).")
+      .def_readonly("y_top_mm", &SliceLayout::y_top_mm, "The top edge of row 0 (mm).")
+      .def_readonly("z0_mm", &SliceLayout::z0_mm, "The bottom of layer 0 (mm).")
+      .def_readonly("pitch_x_mm", &SliceLayout::pitch_x_mm, "Pixel pitch along x, the image width (mm).")
+      .def_readonly("pitch_y_mm", &SliceLayout::pitch_y_mm, "Pixel pitch along y, the image height (mm).")
+      .def_readonly("layer_mm", &SliceLayout::layer_mm, "Layer thickness (mm).")
+      .def_readonly("width_px", &SliceLayout::width_px, "Pixels per row (the images' width).")
+      .def_readonly("height_px", &SliceLayout::height_px, "Rows (the images' height).")
+      .def_readonly("num_layers", &SliceLayout::num_layers, "Layers of the model.")
+      .def("x_of_col", &SliceLayout::x_of_col, py::arg("col"), "x (mm) of the centre of column col.")
+      .def("y_of_row", &SliceLayout::y_of_row, py::arg("row"), "y (mm) of the centre of row row.")
+      .def("z_of_layer", &SliceLayout::z_of_layer, py::arg("layer"), "z (mm) of the middle of layer layer.")
       .def("__repr__", [](const SliceLayout& L) {
         return "<trivox.Layout " + std::to_string(L.num_layers) + " layers of " + std::to_string(L.width_px) + " x " +
                std::to_string(L.height_px) + " px>";

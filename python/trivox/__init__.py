@@ -94,6 +94,12 @@ GlobalStatus = _enum.IntEnum(  # type: ignore[misc]
     "GlobalStatus", [(n.upper().replace("-", "_"), i) for i, n in enumerate(_trivox._global_status_names)],
     module=__name__)
 
+InverseStatus.__doc__ = ("Status codes of Volume.invert (trivox::InverseStatus): CONVERGED, OUTSIDE (held on the "
+                         "domain's boundary), NO_CONVERGENCE (iterations spent), SINGULAR (the Jacobian vanished).")
+GlobalStatus.__doc__ = ("Status codes of Volume.invert_global (trivox::GlobalStatus): NONE (no preimage, proved), "
+                        "UNIQUE, MULTIPLE (the volume folds over the point), DEGENERATE (preimages only where det J "
+                        "vanishes), INCOMPLETE (the box budget ran out).")
+
 # The C++ name of the scene file's "shell" constructor.
 thick_shell = shell
 

@@ -262,6 +262,7 @@ class PngImage:
         self.files = files if isinstance(files, str) else [str(f) for f in files]
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         return {"png": str(self.files) if isinstance(self.files, str) else self.files}
 
 
@@ -272,6 +273,7 @@ class TiffImage:
         self.file = str(file)
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         return {"tiff": self.file}
 
 
@@ -290,6 +292,7 @@ class RawImage:
         self.file, self.size, self.channels, self.type, self.byte_order = str(file), list(size), channels, type, byte_order
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"raw": self.file, "size": self.size}
         for key in ("channels", "type", "byte_order"):
             if getattr(self, key) is not None:
@@ -333,6 +336,7 @@ class FieldScalar:
         self.field, self.component, self.magnitude = field, component, magnitude
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"field": to_json_value(_field(self.field))}
         if self.magnitude:
             out["magnitude"] = True
@@ -355,6 +359,7 @@ class TextureChannel:
         self.image, self.channel, self.filter, self.wrap, self.repeats = image, channel, filter, wrap, repeats
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out = {"texture": to_json_value(self.image)}
         for key in ("channel", "filter", "wrap", "repeats"):
             if getattr(self, key) is not None:

@@ -37,6 +37,7 @@ class MaterialDef:
         self.name, self.rgba, self.description = name, rgba, description
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"name": self.name}
         if self.rgba is not None:
             out["rgba"] = self.rgba if isinstance(self.rgba, str) else [int(c) for c in self.rgba]
@@ -56,6 +57,7 @@ class Shell:
         self.surfaces, self.file, self.placement = surfaces, file, placement
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"file": str(self.file)} if self.file is not None else {"surfaces": to_json_value(list(self.surfaces or []))}
         if self.placement is not None:
             out["placement"] = to_json_value(self.placement)
@@ -72,6 +74,7 @@ class Trim:
         self.side, self.volume, self.shell, self.parametric = side, volume, shell, parametric
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"side": self.side}
         for key in ("volume", "shell", "parametric"):
             if getattr(self, key) is not None:
@@ -101,6 +104,7 @@ class Cell:
             material, geometry, volume, name, placement, trim)
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {}
         if self.name is not None:
             out["name"] = self.name
@@ -124,6 +128,7 @@ class NamedVolume:
         self.name, self.geometry, self.placement = name, geometry, placement
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"name": self.name, "geometry": _geometry(self.geometry)}
         if self.placement is not None:
             out["placement"] = to_json_value(self.placement)
@@ -138,6 +143,7 @@ class Region:
         self.of, self.material, self.parametrize, self.name = list(of), material, parametrize, name
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         out: dict = {"of": self.of}
         if self.parametrize is not None:
             out["parametrize"] = self.parametrize
@@ -154,6 +160,7 @@ class Union:
         self.name, self.volumes, self.regions = name, list(volumes), list(regions)
 
     def to_json(self) -> dict:
+        """The scene file's object (JSON-ready)."""
         return {"name": self.name, "volumes": self.volumes, "regions": [to_json_value(r) for r in self.regions]}
 
 
@@ -315,10 +322,12 @@ class Scene:
 
     @property
     def material_names(self) -> List[str]:
+        """The materials' names in order."""
         return [m["name"] for m in self.handle.materials]
 
     @property
     def num_materials(self) -> int:
+        """m: how many fractions a sample has."""
         return len(self.handle.materials)
 
     @property

@@ -3,6 +3,7 @@ job of ``trivox slice`` with the same settings and byte-identical files."""
 
 from __future__ import annotations
 
+import operator
 import os
 import shutil
 from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
@@ -100,8 +101,9 @@ def slice_layer(scene: SceneLike, layer: int, *, fractions: bool = False, **sett
 def _layer_range(layers: Union[None, int, range]) -> Tuple[int, int]:
     if layers is None:
         return 0, -1
-    if isinstance(layers, int):
-        return layers, layers
+    if not isinstance(layers, range) and hasattr(layers, "__index__"):  # int, numpy integers
+        k = operator.index(layers)
+        return k, k
     if isinstance(layers, range) and layers.step == 1 and len(layers) > 0:
         return layers.start, layers.stop - 1
     raise ValueError("layers: expected None (all), a layer index or a non-empty range of layer indices (step 1)")
