@@ -10,7 +10,7 @@ Python and the C++ repetitions alternating (so that both see the same load):
 1. points per second of vol.evaluate, vol.jacobian and vol.invert (Newton from the domain's
    centre) on --points random points, against the C++ bulk calls on the same points
    (trivox_python_baseline: Volume::evaluate_many, evaluate_jacobian_many, invert() point by
-   point, chunked over TBB workers as the module does), on one thread and on every core;
+   point, in the chunks the module uses), on one thread and on every core;
 2. the cost of one call on small arrays (1 to 1000 points), against the C++ time of the same
    points, which gives the per-call overhead;
 3. two Python threads inverting half the points each at once, against one after the other

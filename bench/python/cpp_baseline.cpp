@@ -6,11 +6,9 @@
 //
 // MODE: evaluate (Volume::evaluate_many), jacobian (evaluate_jacobian_many), invert (invert()
 // from the domain's centre, point by point). THREADS: 1 runs the points on this thread; 0 or
-// more share them among TBB workers in chunks of 4096 points, as the module does. Prints one
+// more share them among workers in chunks of 4096 points (parallel_for_each), as the module
+// does. Prints one
 // JSON line: {"mode", "threads", "points", "seconds": [one per repeat]}.
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -22,6 +20,7 @@
 
 #include "trivox/inverse/invert.h"
 #include "trivox/io/model.h"
+#include "trivox/parallel.h"
 #include "trivox/spline/volume.h"
 
 namespace {
@@ -34,10 +33,7 @@ void for_chunks(std::size_t n, int threads, const std::function<void(std::size_t
     return;
   }
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
-  arena.execute([&] {
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) { body(c * kChunk, std::min(n, (c + 1) * kChunk)); });
-  });
+  trivox::parallel_for_each(chunks, threads, [&](std::size_t c) { body(c * kChunk, std::min(n, (c + 1) * kChunk)); });
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 // Slicing (slice/): one layer to numpy arrays, and the whole job of `trivox slice` with its
 // progress, Ctrl-C and resume (docs/PYTHON.md, "Slicing").
 //
-// The job runs on a thread of its own (its layers on TBB workers) while the calling thread,
+// The job runs on a thread of its own (its layers on the job's workers) while the calling thread,
 // which owns the GIL, waits for progress with the GIL released: every tenth of a second, and
 // after every layer, it takes the GIL back to call the progress callable and to run
 // PyErr_CheckSignals, Python's own check for Ctrl-C. A pending KeyboardInterrupt (or an

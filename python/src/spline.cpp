@@ -1,8 +1,5 @@
 // Splines and volumes: trivox::TensorSpline as trivox.Spline, trivox::Volume as trivox.Volume
 // with its bulk evaluation, Jacobians and both inverse maps (docs/PYTHON.md, "Volumes").
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <array>
 #include <cstring>
@@ -11,6 +8,7 @@
 
 #include "bindings.h"
 #include "trivox/error.h"
+#include "trivox/parallel.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/refine.h"
 #include "trivox/spline/respace.h"
@@ -62,16 +60,9 @@ void for_chunks(std::size_t n, int threads, const std::function<void(std::size_t
     for (std::size_t b = 0; b < n; b += kChunk) body(b, std::min(n, b + kChunk));
     return;
   }
+  // The library's parallel seam (parallel.h), as the slice job uses it.
   const std::size_t chunks = (n + kChunk - 1) / kChunk;
-  auto run = [&] {
-    tbb::parallel_for(std::size_t{0}, chunks, [&](std::size_t c) { body(c * kChunk, std::min(n, (c + 1) * kChunk)); });
-  };
-  if (threads == 0) {
-    run();
-  } else {
-    tbb::task_arena arena(threads);
-    arena.execute(run);
-  }
+  parallel_for_each(chunks, threads, [&](std::size_t c) { body(c * kChunk, std::min(n, (c + 1) * kChunk)); });
 }
 
 int direction_index(const py::handle& obj) {

@@ -9,21 +9,6 @@
 
 namespace trivox::detail {
 
-TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
-  candidates += o.candidates;
-  inside += o.inside;
-  global_calls += o.global_calls;
-  global_unseeded += o.global_unseeded;
-  newton_evals += o.newton_evals;
-  folded += o.folded;
-  unresolved += o.unresolved;
-  guesses += o.guesses;
-  guess_misses += o.guess_misses;
-  jacobian_steps += o.jacobian_steps;
-  slow_path += o.slow_path;
-  return *this;
-}
-
 namespace {
 
 // Whether columns c - 4 to c - 1 (c >= 4) are all solved: one load instead of four.
@@ -99,7 +84,7 @@ inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian
   r.ok[c] = 1;
   r.uvw[c] = seed;
   r.jac_of[c] = jacobian_column;
-  ++counters_.inside;
+  ++inside_;
   r.out.cols.push_back(r.col);
   r.out.uvw.push_back(uvw);
   r.out.xyz.push_back(x);
@@ -216,7 +201,7 @@ void CellTracer::finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 va
 }
 
 void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
-  ++counters_.slow_path;
+  ++counters_.slow_path_pixels;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
   Seed seeds[kMaxSeeds];
@@ -264,10 +249,10 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   switch (g.status) {
     case GlobalStatus::kNone: return;
     case GlobalStatus::kIncomplete:
-      ++counters_.unresolved;
+      ++counters_.unresolved_pixels;
       if (g.preimages.empty()) return;
       break;
-    case GlobalStatus::kMultiple: ++counters_.folded; break;
+    case GlobalStatus::kMultiple: ++counters_.folded_pixels; break;
     case GlobalStatus::kUnique:
     case GlobalStatus::kDegenerate: break;
   }
