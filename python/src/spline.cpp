@@ -281,9 +281,29 @@ py::array_t<double> spline_evaluate(const TensorSpline& s, const py::handle& par
 // Named tuples of the inverse maps' results (created at import; collections needs no numpy).
 py::object g_inversion_type, g_global_inversion_type, g_jacobian_report_type;
 
-py::array_t<double> volume_evaluate(const PyVolume& self, const py::handle& params, int threads) {
+// The output array: a new one, or `out` when given, which must be a writable contiguous
+// float64 array of the result's shape (so that a caller can reuse its buffers).
+py::array_t<double> output(const py::object& out, const std::vector<py::ssize_t>& lead,
+                           std::initializer_list<py::ssize_t> tail, const char* what) {
+  if (out.is_none()) return new_doubles(lead, tail);
+  std::vector<py::ssize_t> shape = lead;
+  shape.insert(shape.end(), tail.begin(), tail.end());
+  if (!py::isinstance<py::array_t<double>>(out))
+    throw py::type_error(std::string(what) + ": expected a float64 numpy array");
+  auto a = py::reinterpret_borrow<py::array_t<double>>(out);
+  const bool contiguous = (a.flags() & py::array::c_style) != 0;
+  if (!contiguous || !a.writeable() || a.ndim() != static_cast<py::ssize_t>(shape.size()) ||
+      !std::equal(shape.begin(), shape.end(), a.shape()))
+    throw py::value_error(std::string(what) +
+                          ": expected a writable C-contiguous float64 array of the result's shape "
+                          "(the leading shape of params, then the result's axes)");
+  return a;
+}
+
+py::array_t<double> volume_evaluate(const PyVolume& self, const py::handle& params, int threads,
+                                    const py::object& out_arg) {
   const Vec3Batch in = vec3_batch(params, "params");
-  py::array_t<double> out = new_doubles(in.lead, {3});
+  py::array_t<double> out = output(out_arg, in.lead, {3}, "out");
   const std::span<const Vec3> p = in.points();
   Vec3* o = reinterpret_cast<Vec3*>(out.mutable_data());
   {
@@ -295,15 +315,32 @@ py::array_t<double> volume_evaluate(const PyVolume& self, const py::handle& para
   return out;
 }
 
-py::object volume_jacobian(const PyVolume& self, const py::handle& params, bool with_values, int threads) {
+py::object volume_jacobian(const PyVolume& self, const py::handle& params, bool with_values, int threads,
+                           const py::object& out_arg) {
   const Vec3Batch in = vec3_batch(params, "params");
-  py::array_t<double> values = new_doubles(in.lead, {3});
-  py::array_t<double> jac = new_doubles(in.lead, {3, 3});
+  py::object values_out = py::none(), jacobian_out = out_arg;
+  if (with_values && !out_arg.is_none()) {
+    const auto pair = py::cast<std::pair<py::object, py::object>>(out_arg);
+    values_out = pair.first;
+    jacobian_out = pair.second;
+  }
+  py::array_t<double> jac = output(jacobian_out, in.lead, {3, 3}, "out");
   const std::span<const Vec3> p = in.points();
-  Vec3* v = reinterpret_cast<Vec3*>(values.mutable_data());
   // Mat3 is three rows of three doubles: the array's (3, 3) rows, J[r, c] = dV_r / dp_c.
   static_assert(sizeof(Mat3) == 9 * sizeof(double));
   Mat3* j = reinterpret_cast<Mat3*>(jac.mutable_data());
+  if (!with_values) {
+    // evaluate_jacobian point by point is evaluate_jacobian_many's definition; the values are
+    // not kept, so they need no array.
+    const ReleaseForBatch release(p.size());
+    for_chunks(p.size(), threads, [&](std::size_t b, std::size_t e) {
+      Vec3 value;
+      for (std::size_t i = b; i < e; ++i) self.volume.evaluate_jacobian(p[i], value, j[i]);
+    });
+    return jac;
+  }
+  py::array_t<double> values = output(values_out, in.lead, {3}, "out[0]");
+  Vec3* v = reinterpret_cast<Vec3*>(values.mutable_data());
   {
     const ReleaseForBatch release(p.size());
     for_chunks(p.size(), threads, [&](std::size_t b, std::size_t e) {
@@ -311,8 +348,7 @@ py::object volume_jacobian(const PyVolume& self, const py::handle& params, bool 
                                          std::span<Mat3>(j + b, e - b));
     });
   }
-  if (with_values) return py::make_tuple(values, jac);
-  return jac;
+  return py::make_tuple(values, jac);
 }
 
 InverseParams inverse_params(double residual_tolerance_model, int max_iterations, double outside_slack_relative) {
@@ -707,10 +743,13 @@ count.
             return py::make_tuple(v.source_file, v.source_patch);
           },
           "(file, index among the file's trivariates) for a volume read by trivox.read, else None.")
-      .def("evaluate", &volume_evaluate, py::arg("params"), py::arg("threads") = 0,
-           "V(u, v, w): params (..., 3) -> points (..., 3). Parameters are clamped to the domain.")
+      .def("evaluate", &volume_evaluate, py::arg("params"), py::arg("threads") = 0, py::arg("out") = py::none(),
+           "V(u, v, w): params (..., 3) -> points (..., 3). Parameters are clamped to the domain. out: a "
+           "C-contiguous float64 array of the result's shape to write into (returned), to reuse one buffer.")
       .def("jacobian", &volume_jacobian, py::arg("params"), py::arg("with_values") = false, py::arg("threads") = 0,
-           "Jacobians (..., 3, 3), J[..., r, c] = dV_r / dp_c; with_values=True returns (values, jacobians).")
+           py::arg("out") = py::none(),
+           "Jacobians (..., 3, 3), J[..., r, c] = dV_r / dp_c; with_values=True returns (values, jacobians). out: "
+           "the array to write the Jacobians into (with with_values, a pair (values, jacobians)).")
       .def("invert", &volume_invert, py::arg("points"), py::arg("hint") = py::none(), py::kw_only(),
            py::arg("residual_tolerance_model") = InverseParams{}.residual_tolerance_model,
            py::arg("max_iterations") = InverseParams{}.max_iterations,

@@ -70,6 +70,24 @@ def test_jacobian_columns_are_the_partial_derivatives(column):
     assert bits(column.jacobian(p)) == bits(jac)
 
 
+def test_out_arrays_are_written_and_returned(column):
+    p = random_params(column, 5000, 9)
+    buffer = np.full((5000, 3), np.nan)
+    assert column.evaluate(p, out=buffer) is buffer
+    assert bits(buffer) == bits(column.evaluate(p))
+    jac = np.empty((5000, 3, 3))
+    values = np.empty((5000, 3))
+    assert column.jacobian(p, out=jac) is jac
+    v, j = column.jacobian(p, with_values=True, out=(values, np.empty((5000, 3, 3))))
+    assert v is values and bits(j) == bits(jac) and bits(v) == bits(buffer)
+    with pytest.raises(ValueError, match="shape"):
+        column.evaluate(p, out=np.empty((4999, 3)))
+    with pytest.raises(ValueError, match="C-contiguous"):
+        column.evaluate(p, out=np.empty((3, 5000)).T)
+    with pytest.raises(TypeError, match="float64"):
+        column.evaluate(p, out=np.empty((5000, 3), dtype=np.float32))
+
+
 def test_results_are_the_same_bits_for_any_thread_count(column):
     p = random_params(column, 20000, 4)
     x = column.evaluate(p, threads=1)
