@@ -5,7 +5,8 @@
 #include <cstring>
 #include <optional>
 
-#include "inverse/newton.h"
+#include "check.h"
+#include "trivox/inverse/trace.h"
 
 namespace trivox::detail {
 
@@ -43,6 +44,11 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
 }
 
 void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans) {
+  for (const auto& [first, last] : spans)
+    if (first <= last) {
+      TRIVOX_CHECK_GE(first, 0);
+      TRIVOX_CHECK_LT(last, width_);
+    }
   r.row = row;
   r.y_mm = y_mm;
   r.spans = &spans;
@@ -81,6 +87,9 @@ inline void CellTracer::advance(Row& r) {
 
 inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {
   const auto c = static_cast<std::size_t>(r.col);
+  TRIVOX_CHECK_LT(c, r.ok.size());
+  // A row's solved columns increase (TracedRow's contract).
+  if (!r.out.cols.empty()) TRIVOX_CHECK_LT(r.out.cols.back(), r.col);
   r.ok[c] = 1;
   r.uvw[c] = seed;
   r.jac_of[c] = jacobian_column;
@@ -97,6 +106,8 @@ void CellTracer::keep_jacobian(Row& r, std::size_t c) {
 
 CellTracer::Seed CellTracer::seed_at(const Row& r, int col, Vec3 pixel_x) {
   const auto c = static_cast<std::size_t>(col);
+  TRIVOX_CHECK(r.ok[c] != 0);  // only solved pixels seed
+  TRIVOX_CHECK_GE(r.jac_of[c], 0);
   return {&r.uvw[c], &r.jac[static_cast<std::size_t>(r.jac_of[c])], pixel_x};
 }
 

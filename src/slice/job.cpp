@@ -11,7 +11,6 @@
 #include <nlohmann/json.hpp>
 
 #include "job_parts.h"
-#include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -238,7 +237,7 @@ void JobRun::make_writers() {
   if (!params_.preview_layers.empty()) {
     std::vector<std::pair<int, int>> chosen;
     for (int layer : params_.preview_layers) chosen.emplace_back(layer - range_.first, layer + 1);
-    writers_.push_back(detail::make_layer_preview_writer(ctx, std::move(chosen)));
+    writers_.push_back(make_layer_preview_writer(ctx, std::move(chosen)));
   }
   any_stack_ = std::any_of(writers_.begin(), writers_.end(), [](const auto& w) { return w->needs_whole_stack(); });
   if (any_stack_ && params_.shard_count > 1)

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <optional>
 
+#include "check.h"
 #include "slicer_parts.h"
+#include "trivox/material/material_function.h"
 #include "trivox/raster/dither.h"
 
 namespace trivox {
@@ -214,6 +216,9 @@ const detail::TracedRow& Slicer::kept_by_trims(const CellData& cd, int r, const 
 void Slicer::paint_row(int ci, int r, const detail::TracedRow& row, LayerWork& w) const {
   const std::size_t n = row.cols.size();
   if (n == 0) return;
+  TRIVOX_CHECK_GE(row.cols.front(), 0);
+  TRIVOX_CHECK_LT(row.cols.back(), layout_.width_px);
+  TRIVOX_CHECK_EQ(row.uvw.size(), n);
   const CellData& cd = *cells_[static_cast<std::size_t>(ci)];
   const auto m = static_cast<std::size_t>(scene_.num_materials());
   const auto width = static_cast<std::size_t>(layout_.width_px);

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "boundary_mesh.h"
+#include "check.h"
 #include "slicer_parts.h"
 #include "trivox/error.h"
 #include "trivox/trim/shell_mesh.h"
@@ -18,6 +19,8 @@ void Slicer::LayerBuffers::clear() {
   for (std::size_t y = 0; y < written.size(); ++y) {
     auto& [first, last] = written[y];
     if (first > last) continue;
+    TRIVOX_CHECK_GE(first, 0);
+    TRIVOX_CHECK_LT(last, inside.width_px());
     const auto n = static_cast<std::size_t>(last - first + 1);
     std::fill_n(inside.row(static_cast<int>(y)).begin() + first, n, std::uint8_t{0});
     std::fill_n(grid.row(static_cast<int>(y)).begin() + static_cast<std::ptrdiff_t>(first * m), n * m, 0.0f);
