@@ -19,6 +19,9 @@ packages=(
   libopenvdb-dev libboost-dev
   # the tests open the .gcvf archive with Python's zipfile, a reader independent of trivox's
   python3
+  # the Python module (python/, docs/PYTHON.md): its headers, pybind11, numpy, and pytest for
+  # its tests; matplotlib draws a layer in examples/python/show_layer.py
+  python3-dev pybind11-dev python3-pybind11 python3-numpy python3-pytest python3-matplotlib
   # clang with libFuzzer and the sanitizer runtimes: scripts/fuzz.sh, scripts/tsan.sh
   clang libclang-rt-14-dev
   # the format check of CI (scripts/check_format.sh)

@@ -16,6 +16,10 @@ namespace trivox {
 LayerResult Slicer::slice_layer(int layer) const { return slice_layer(layer, nullptr); }
 
 LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
+  return slice_layer(layer, owner_out, nullptr);
+}
+
+LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out, LayerRasters* rasters) const {
   const auto start = std::chrono::steady_clock::now();
   LayerResult result;
   LayerStats& st = result.stats;
@@ -41,6 +45,10 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   for (std::size_t ci = 0; ci < cells_.size(); ++ci) slice_cell(static_cast<int>(ci), w);
   st.seconds_inverse += w.lap();
 
+  if (rasters) {
+    rasters->fractions = w.buffers->grid;
+    rasters->inside = w.buffers->inside;
+  }
   detail::dither_checked_grid(w.buffers->grid, w.buffers->inside, dither_, result.labels, layer);
   // Greyscale (coverage.h): every pixel's grey from the grid, the edge pixels' from sub-samples.
   if (scene_.greyscale) {

@@ -31,6 +31,14 @@ namespace detail {
 class EdgeCoverage;
 }
 
+// A layer as the dithering received it, for callers that look at the material field itself
+// (the Python API's slice_layer(..., fractions=True)): the fractions the owning cells' materials
+// gave every pixel (all 0 outside the cells) and the inside mask.
+struct LayerRasters {
+  MaterialGrid fractions;
+  InsideMask inside;
+};
+
 class Slicer {
  public:
   // Prepares every cell (boundary mesh, global solver) and the layout. `scene` must outlive
@@ -54,6 +62,9 @@ class Slicer {
   // faces of a multi-patch model), the owner is the last cell in scene order that gives the
   // pixel a non-empty material, else the last that contains it; its material is the pixel's.
   LayerResult slice_layer(int layer, std::vector<int>* owner) const;
+  // The same, and when `rasters` is given a copy of the layer before dithering: dither() of
+  // its fractions and mask with dither_params() and `layer` gives the result's labels.
+  LayerResult slice_layer(int layer, std::vector<int>* owner, LayerRasters* rasters) const;
 
  private:
   // Prepared once (slicer.cpp); a layer's state (slicer_parts.h).

@@ -1,0 +1,147 @@
+"""trivox: slicing functionally graded material objects, from Python.
+
+The same C++ library as the ``trivox`` program (docs/PYTHON.md): models and volumes with
+numpy arrays, bulk evaluation and inversion with the GIL released, the volume constructors,
+every material function of the scene file plus Python callables, scenes built in Python or
+read from JSON, and slicing, one layer to numpy or whole jobs with byte-identical files.
+
+    import trivox
+    vol = trivox.read("examples/models/twisted_column.itd").volumes()[0]
+    xyz = vol.evaluate([[1.0, 1.5, 2.0]])
+    res = vol.invert(xyz)                      # res.uvw, res.status, res.residual
+    labels = trivox.slice_layer("examples/scenes/quick_start.json", 100)
+
+Importing trivox needs no numpy; the calls that take or return arrays do.
+"""
+
+from __future__ import annotations
+
+import enum as _enum
+import os as _os
+from typing import Any, Union as _Union
+
+from . import _trivox
+from ._trivox import (
+    ConstructionReport,
+    Constructed,
+    Error,
+    ExpressionError,
+    GlobalInversion,
+    InputError,
+    Inversion,
+    IoError,
+    JacobianReport,
+    Layout,
+    Model,
+    ModelError,
+    Patch,
+    Spline,
+    UnsupportedError,
+    Volume,
+    __version__,
+    arrange_cube_faces,
+    coons,
+    extrude,
+    find_library_material,
+    formats,
+    inspect_volume,
+    join_surfaces,
+    material_library,
+    printer_profile,
+    printer_profile_names,
+    read,
+    read_gismo_xml,
+    read_itd,
+    read_png,
+    revolve,
+    ruled,
+    shell,
+    sweep,
+    to_itd,
+    untangle,
+    write_png,
+)
+from .materials import (
+    Blend,
+    Constant,
+    Expression,
+    FieldScalar,
+    Function,
+    MaterialFunction,
+    PngImage,
+    PorousTiles,
+    RawImage,
+    ScalarGradient,
+    Select,
+    SplineField,
+    Texture,
+    TextureChannel,
+    TiffImage,
+    Threshold,
+    Transfer,
+    TwistingCurves,
+    VoidMask,
+)
+from .scene import Cell, CellInfo, MaterialDef, NamedVolume, Region, Scene, Shell, Trim, Union, read_scene
+from .slicing import JobResult, Layer, Slicer, slice, slice_layer
+
+# Status codes of Volume.invert and Volume.invert_global, in the C++ enums' order (the arrays
+# hold these values as uint8).
+InverseStatus = _enum.IntEnum(  # type: ignore[misc]
+    "InverseStatus", [(n.upper().replace("-", "_"), i) for i, n in enumerate(_trivox._inverse_status_names)],
+    module=__name__)
+GlobalStatus = _enum.IntEnum(  # type: ignore[misc]
+    "GlobalStatus", [(n.upper().replace("-", "_"), i) for i, n in enumerate(_trivox._global_status_names)],
+    module=__name__)
+
+InverseStatus.__doc__ = ("Status codes of Volume.invert (trivox::InverseStatus): CONVERGED, OUTSIDE (held on the "
+                         "domain's boundary), NO_CONVERGENCE (iterations spent), SINGULAR (the Jacobian vanished).")
+GlobalStatus.__doc__ = ("Status codes of Volume.invert_global (trivox::GlobalStatus): NONE (no preimage, proved), "
+                        "UNIQUE, MULTIPLE (the volume folds over the point), DEGENERATE (preimages only where det J "
+                        "vanishes), INCOMPLETE (the box budget ran out).")
+
+# The C++ name of the scene file's "shell" constructor.
+thick_shell = shell
+
+
+def write(path: _Union[str, "_os.PathLike[str]"], model: Any) -> None:
+    """Writes a Model, or a list of Spline, Volume or Patch objects, as an IRIT .itd file (the
+    model format the library writes; 17 significant digits, so it reads back to the same
+    doubles). Layer images, stacks and packages are written by slice()."""
+    path = _os.fspath(path)
+    if not path.lower().endswith(".itd"):
+        raise ValueError(f"{path}: trivox writes models as IRIT .itd files; name the file *.itd")
+    text = to_itd(model)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+
+
+def _same_kind(x: Any, change: Any) -> Any:
+    return Volume(change(x.spline)) if isinstance(x, Volume) else change(x)
+
+
+def elevate_degree(x: Any, dir: Any, times: int = 1) -> Any:  # noqa: A002 - the C++ name
+    """Degree elevation along dir (0-2 or 'u', 'v', 'w') by `times`, exact; a Volume stays a Volume."""
+    return _same_kind(x, lambda s: s.elevate_degree(dir, times))
+
+
+def insert_knot(x: Any, dir: Any, t: float, times: int = 1) -> Any:  # noqa: A002
+    """Knot insertion along dir, `times` times, exact; a Volume stays a Volume."""
+    return _same_kind(x, lambda s: s.insert_knot(dir, t, times))
+
+
+__all__ = [
+    "Blend", "Cell", "CellInfo", "Constant", "Constructed", "ConstructionReport", "Error",
+    "Expression", "ExpressionError", "FieldScalar", "Function", "GlobalInversion", "GlobalStatus",
+    "InputError", "InverseStatus", "Inversion", "IoError", "JacobianReport", "JobResult", "Layer",
+    "Layout", "MaterialDef", "MaterialFunction", "Model", "ModelError", "NamedVolume", "Patch",
+    "PngImage", "PorousTiles", "RawImage", "Region", "ScalarGradient", "Scene", "Select", "Shell",
+    "Slicer", "Spline", "SplineField", "Texture", "TextureChannel", "Threshold", "TiffImage",
+    "Transfer", "Trim", "TwistingCurves", "Union", "UnsupportedError", "VoidMask", "Volume",
+    "__version__", "arrange_cube_faces", "coons", "elevate_degree", "extrude", "find_library_material",
+    "formats",
+    "insert_knot", "inspect_volume", "join_surfaces", "material_library", "materials",
+    "printer_profile", "printer_profile_names", "read", "read_gismo_xml", "read_itd", "read_png",
+    "read_scene", "revolve", "ruled", "scene", "shell", "slice", "slice_layer", "slicing", "sweep",
+    "thick_shell", "to_itd", "untangle", "write", "write_png",
+]

@@ -1,0 +1,216 @@
+"""Slicing from Python (docs/PYTHON.md, "Slicing"): one layer as numpy arrays, or the whole
+job of ``trivox slice`` with the same settings and byte-identical files."""
+
+from __future__ import annotations
+
+import operator
+import os
+import shutil
+from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
+
+from . import _trivox
+from .scene import Scene, read_scene
+
+__all__ = ["Slicer", "Layer", "JobResult", "slice_layer", "slice"]
+
+SceneLike = Union[Scene, str, "os.PathLike[str]"]
+
+
+def _scene(scene: SceneLike) -> Scene:
+    return scene if isinstance(scene, Scene) else read_scene(scene)
+
+
+class Layer(NamedTuple):
+    """One sliced layer: labels (H, W) uint8 (0 void, 1 + j material j; row 0 is the top
+    of the image, at the largest y), and when asked for, the fractions before dithering
+    (H, W, m) float32 with the inside mask (H, W) uint8, and the owning cell of every pixel
+    (H, W) int32 (-1 outside); stats: the layer's counts (stats.json's columns)."""
+
+    labels: Any
+    fractions: Optional[Any]
+    inside: Optional[Any]
+    owner: Optional[Any]
+    stats: Dict[str, Any]
+
+
+class JobResult(NamedTuple):
+    """What a slicing job did: per-layer stats in layer order, every file it wrote (relative to
+    the output folder, sorted), its wall time, threads, empty layers padded and layers a
+    resumed job kept."""
+
+    layers: List[Dict[str, Any]]
+    files: List[str]
+    seconds: float
+    threads: int
+    padded_layers: int
+    layers_kept: int
+
+
+class Slicer:
+    """A scene prepared for slicing (outlines, global solvers, the layout), with the slicing
+    settings of ``trivox slice``: tracing, residual_tolerance_mm, outline_tolerance_mm,
+    dither (a method name; default the scene's), skin (voxels; default the scene's),
+    vary_by_layer (default the scene's). Reuse one Slicer for several layers: preparing a
+    scene costs about as much as slicing a layer."""
+
+    def __init__(
+        self,
+        scene: SceneLike,
+        *,
+        tracing: str = "flood",
+        residual_tolerance_mm: float = 1e-6,
+        outline_tolerance_mm: Optional[float] = None,
+        dither: Optional[str] = None,
+        skin: Optional[int] = None,
+        vary_by_layer: Optional[bool] = None,
+    ):
+        self.scene = _scene(scene)
+        self._slicer = _trivox._Slicer(
+            self.scene.handle, tracing, residual_tolerance_mm, outline_tolerance_mm, dither, skin, vary_by_layer
+        )
+
+    @property
+    def layout(self) -> "_trivox.Layout":
+        """Layers, bitmap size and where every pixel lies in model space (mm)."""
+        return self._slicer.layout
+
+    @property
+    def background(self) -> Tuple[int, int, int, int]:
+        """The job's background colour when slice() is given none: black, or white or a grey
+        when a material takes black (the colour of label 0 in the printer images)."""
+        return self._slicer.background
+
+    @property
+    def dithering(self) -> Dict[str, Any]:
+        """The dithering in effect: method, serpentine, vary_by_layer, skin_voxels."""
+        return self._slicer.dithering
+
+    def slice_layer(self, layer: int, *, fractions: bool = False, owner: bool = False) -> Layer:
+        """Slices layer `layer` (0-based) as the job does; the GIL is released meanwhile."""
+        r = self._slicer.slice_layer(layer, fractions, owner)
+        return Layer(r["labels"], r.get("fractions"), r.get("inside"), r.get("owner"), r["stats"])
+
+    def slice(self, output_dir: Union[str, "os.PathLike[str]"], **job: Any) -> JobResult:
+        """The whole job into output_dir; the keyword arguments are slice()'s job settings."""
+        return _run(self, output_dir, **job)
+
+
+def slice_layer(scene: SceneLike, layer: int, *, fractions: bool = False, **settings: Any) -> Any:
+    """The material labels of layer `layer` (0-based) of a scene, (H, W) uint8: 0 void,
+    1 + j material j, the pixels of the command line's images (row 0 at the top). With
+    fractions=True, (labels, fractions): the fractions before dithering, (H, W, m) float32.
+    The settings are Slicer's. For several layers, make one Slicer and call its slice_layer."""
+    result = Slicer(scene, **settings).slice_layer(layer, fractions=fractions)
+    return (result.labels, result.fractions) if fractions else result.labels
+
+
+def _layer_range(layers: Union[None, int, range]) -> Tuple[int, int]:
+    if layers is None:
+        return 0, -1
+    if not isinstance(layers, range) and hasattr(layers, "__index__"):  # int, numpy integers
+        k = operator.index(layers)
+        return k, k
+    if isinstance(layers, range) and layers.step == 1 and len(layers) > 0:
+        return layers.start, layers.stop - 1
+    raise ValueError("layers: expected None (all), a layer index or a non-empty range of layer indices (step 1)")
+
+
+def slice(  # noqa: A001 - the verb is the API's name
+    scene: SceneLike,
+    output_dir: Union[str, "os.PathLike[str]"],
+    *,
+    formats: Sequence[str] = ("voxelprint",),
+    layers: Union[None, int, range] = None,
+    threads: int = 0,
+    prefix: str = "slice_",
+    background: Optional[Sequence[int]] = None,
+    min_layers: int = 30,
+    preview: Sequence[int] = (),
+    shard: Optional[Tuple[int, int]] = None,
+    resume: bool = False,
+    progress: Optional[Callable[[int, int], Any]] = None,
+    checks: bool = True,
+    memory_limit_mb: Optional[float] = None,
+    manifest_interval_s: float = 1.0,
+    **settings: Any,
+) -> JobResult:
+    """Runs the job of ``trivox slice`` and writes the same bytes (every file but the timings in
+    stats.json), in parallel over layers on `threads` workers (0: every core).
+
+    formats: the outputs (trivox.formats()); layers: None for all, a layer or a range of
+    layers, 0-based (``--layers 51:450`` is ``layers=range(50, 450)``); preview: 0-based layers
+    also written as preview images (``--preview 80`` is ``preview=[79]``); shard: (I, N) as
+    ``--shard I/N``; resume: continue the job recorded in the folder's manifest; progress:
+    progress(done, total) called on this thread after layers complete; checks: refuse a job
+    the estimate says will not fit the disk or the memory (memory_limit_mb, default the
+    machine's); the other keyword arguments are Slicer's settings.
+
+    Ctrl-C (KeyboardInterrupt), or an exception raised by `progress`, stops the job: no new
+    layer starts, the manifest is marked interrupted, and the exception is raised once the
+    running layers have finished; ``resume=True`` continues it. A job that fails on its input
+    (an error in a layer) leaves the folder as it found it, as the command line does.
+    """
+    slicer = scene if isinstance(scene, Slicer) else Slicer(scene, **settings)
+    if isinstance(scene, Slicer) and settings:
+        raise TypeError("give the slicing settings to the Slicer, not to slice()")
+    return _run(
+        slicer, output_dir, formats=formats, layers=layers, threads=threads, prefix=prefix, background=background,
+        min_layers=min_layers, preview=preview, shard=shard, resume=resume, progress=progress, checks=checks,
+        memory_limit_mb=memory_limit_mb, manifest_interval_s=manifest_interval_s)
+
+
+def _run(
+    slicer: Slicer,
+    output_dir: Union[str, "os.PathLike[str]"],
+    *,
+    formats: Sequence[str] = ("voxelprint",),
+    layers: Union[None, int, range] = None,
+    threads: int = 0,
+    prefix: str = "slice_",
+    background: Optional[Sequence[int]] = None,
+    min_layers: int = 30,
+    preview: Sequence[int] = (),
+    shard: Optional[Tuple[int, int]] = None,
+    resume: bool = False,
+    progress: Optional[Callable[[int, int], Any]] = None,
+    checks: bool = True,
+    memory_limit_mb: Optional[float] = None,
+    manifest_interval_s: float = 1.0,
+) -> JobResult:
+    if isinstance(formats, str):
+        formats = [f for f in formats.split(",") if f]
+    first, last = _layer_range(layers)
+    shard_index, shard_count = shard if shard is not None else (1, 1)
+    output_dir = os.fspath(output_dir)
+    # As the command line: a job that fails on its input leaves no half-written stack behind
+    # (the folder is put back as found when it was absent or empty); one that fails to write,
+    # or is stopped, keeps what it completed for resume.
+    existed = os.path.exists(output_dir)
+    was_empty = existed and os.path.isdir(output_dir) and not os.listdir(output_dir)
+    stopped: List[BaseException] = []
+
+    def report(done: int, total: int) -> None:
+        try:
+            progress(done, total)  # type: ignore[misc]
+        except BaseException as e:
+            stopped.append(e)  # the caller's stop: the job is resumable, not rolled back
+            raise
+
+    try:
+        r = slicer._slicer.run_job(
+            output_dir, list(formats), first, last, threads, prefix, None if background is None else list(background), min_layers,
+            list(preview), shard_index, shard_count, resume, report if progress is not None else None, checks,
+            memory_limit_mb, manifest_interval_s)
+    except (_trivox.IoError, KeyboardInterrupt):
+        raise
+    except BaseException as e:
+        if any(e is s for s in stopped):
+            raise
+        if not existed:
+            shutil.rmtree(output_dir, ignore_errors=True)
+        elif was_empty:
+            for entry in os.listdir(output_dir):
+                p = os.path.join(output_dir, entry)
+                shutil.rmtree(p, ignore_errors=True) if os.path.isdir(p) else os.remove(p)
+        raise
+    return JobResult(r["layers"], r["files"], r["seconds"], r["threads"], r["padded_layers"], r["layers_kept"])
