@@ -5,6 +5,7 @@
 // found.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include "bezier_net.h"
@@ -300,6 +301,12 @@ Box3 GlobalSolver::image_bounds(double tolerance_model, int max_nets) const {
     box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_nets);
     box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_nets);
   }
+  // The bounds hold the exact image; evaluating V rounds, by a few units in the last place of
+  // the coordinates, so the box is widened by that much to hold every evaluated point too.
+  double magnitude = 0;
+  for (int a = 0; a < 3; ++a) magnitude = std::max({magnitude, std::abs(box.lo[a]), std::abs(box.hi[a])});
+  const double pad = 64 * std::numeric_limits<double>::epsilon() * magnitude;
+  box = Box3{box.lo - Vec3{pad, pad, pad}, box.hi + Vec3{pad, pad, pad}};
   return box;
 }
 

@@ -123,7 +123,9 @@ class GlobalSolver {
   // Bezier pieces, halved where their control points' extreme is not yet within the
   // tolerance of an extreme point found; both are exact bounds, by the convex hull property
   // and because a net's corners lie on the volume). Depends on the volume alone, never on an
-  // approximation of it. After `max_nets` halvings per side the side is the best upper
+  // approximation of it. Each side is widened by 64 units in the last place of the largest
+  // coordinate, so that V's evaluations, which round, lie inside too. After `max_nets`
+  // halvings per side the side is the best upper
   // bound found so far: still outside the image, not always within the tolerance.
   Box3 image_bounds(double tolerance_model, int max_nets = 100000) const;
 
