@@ -137,7 +137,7 @@ void run(const SliceOptions& so) {
   if (!o.no_checks) {
     // One sample layer is enough to refuse a job that is far too big; `trivox validate`
     // samples more for a closer estimate.
-    JobEstimate estimate = estimate_job(slicer, job, EstimateParams{1});
+    JobEstimate estimate = estimate_job(slicer, job, EstimateParams{1, memory_limit_of(o).value_or(0)});
     if (so.resume) estimate.output_bytes -= std::min(estimate.output_bytes, bytes_already_written(job));
     check_job_fits(estimate, job, memory_limit_of(o));
   }

@@ -26,7 +26,8 @@ void run_validate(const ValidateOptions& v) {
   const Scene scene = read_scene(o.scene);
   warn_about_printer(scene);
   const Slicer slicer(scene, slice_params_of(o, scene));
-  const JobEstimate e = estimate_job(slicer, job, EstimateParams{v.samples});
+  const JobEstimate e =
+      estimate_job(slicer, job, EstimateParams{v.samples, o.no_checks ? 0 : memory_limit_of(o).value_or(0)});
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
              scene.printer.name);
   print_estimate(e);

@@ -216,7 +216,7 @@ py::dict run_job(const PySlicer& s, const std::filesystem::path& output_dir, con
         memory_limit_mb ? std::optional<std::uint64_t>(static_cast<std::uint64_t>(*memory_limit_mb * 1e6))
                         : memory_limit_bytes();
     py::gil_scoped_release release;
-    JobEstimate estimate = estimate_job(*s.slicer, job, EstimateParams{1});
+    JobEstimate estimate = estimate_job(*s.slicer, job, EstimateParams{1, limit.value_or(0)});
     if (resume) estimate.output_bytes -= std::min(estimate.output_bytes, bytes_already_written(job));
     check_job_fits(estimate, job, limit);
   }

@@ -68,6 +68,7 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
 
   const int samples = std::min(ep.sample_layers, e.model_layers);
   if (samples <= 0) return e;
+  if (ep.memory_limit_bytes > 0 && e.peak_memory_bytes > ep.memory_limit_bytes) return e;
   static std::atomic<int> counter{0};
   const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
                                         fmt::format("trivox-estimate-{}-{}", static_cast<long>(::getpid()), counter++);

@@ -69,6 +69,20 @@ TEST(JobEstimate, AShardEstimatesItsOwnLayers) {
   EXPECT_EQ(e.sampled_layers, 0);
 }
 
+// A job whose memory estimate already exceeds the limit slices no sample layer (which
+// would build the layer it cannot afford) and is refused on memory.
+TEST(JobEstimate, AJobTooLargeForMemorySlicesNoSampleLayer) {
+  const Scene scene = estimate_scene();
+  const Slicer slicer(scene, {});
+  JobParams p;
+  const JobEstimate unlimited = estimate_job(slicer, p, EstimateParams{2});
+  EXPECT_EQ(unlimited.sampled_layers, 2);
+  const JobEstimate e = estimate_job(slicer, p, EstimateParams{2, unlimited.peak_memory_bytes / 2});
+  EXPECT_EQ(e.sampled_layers, 0);
+  EXPECT_EQ(e.output_bytes, 0u);
+  EXPECT_THROW(check_job_fits(e, p, unlimited.peak_memory_bytes / 2), Error);
+}
+
 TEST(JobEstimate, RefusesWhatTheDiskOrMemoryCannotTake) {
   JobEstimate e;
   e.sampled_layers = 1;

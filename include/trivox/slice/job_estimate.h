@@ -16,6 +16,11 @@ struct EstimateParams {
   // Model layers sliced and encoded to measure file size and time, spread evenly over the
   // job's range (fewer when the range is shorter). 0 = size and time are not estimated.
   int sample_layers = 3;
+  // Bytes of memory the job may use (0: no limit). When the estimate of the job's memory
+  // without samples already exceeds it, no sample layer is sliced (sampled_layers is then 0),
+  // so that check_job_fits refuses a job too large for memory before any of its layers is
+  // built.
+  std::uint64_t memory_limit_bytes = 0;
 };
 
 struct JobEstimate {
