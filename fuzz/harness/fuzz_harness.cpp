@@ -1,16 +1,54 @@
 #include "harness/fuzz_harness.h"
 
+#include <unistd.h>
+
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "harness/pipeline_job.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/material/expression_material.h"
 #include "trivox/scene/scene.h"
+#include "trivox/slice/job.h"
+#include "trivox/slice/job_estimate.h"
+#include "trivox/slice/job_folder.h"
+#include "trivox/slice/slicer.h"
+
+// The heap's size and its peak, counted by the sanitizer allocator's hooks where there is
+// one (AddressSanitizer builds: the fuzzers and the sanitizer test suite).
+#if defined(__SANITIZE_ADDRESS__)
+#define TRIVOX_FUZZ_HEAP 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TRIVOX_FUZZ_HEAP 1
+#endif
+#endif
+
+#ifdef TRIVOX_FUZZ_HEAP
+#include <sanitizer/allocator_interface.h>
+
+namespace {
+std::atomic<long long> g_heap_bytes{0}, g_heap_peak{0};
+
+void on_malloc(const volatile void*, std::size_t size) {
+  const long long now = g_heap_bytes.fetch_add(static_cast<long long>(size)) + static_cast<long long>(size);
+  long long peak = g_heap_peak.load();
+  while (now > peak && !g_heap_peak.compare_exchange_weak(peak, now)) {
+  }
+}
+void on_free(const volatile void* p) {
+  g_heap_bytes.fetch_sub(static_cast<long long>(__sanitizer_get_allocated_size(const_cast<const void*>(p))));
+}
+const bool g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free) != 0;
+}  // namespace
+#endif
 
 namespace trivox::fuzz {
 
@@ -116,6 +154,89 @@ void run_expression(std::span<const std::uint8_t> data) {
   }
 }
 
+namespace {
+
+// The memory the fuzzed jobs may use, as `trivox slice --memory-limit 256` gives it.
+constexpr std::uint64_t kPipelineMemoryLimit = 256'000'000;
+// Jobs of more pixels are prepared (set-up, estimate) but not sliced: the fuzzer's 10 s hold
+// for jobs up to 1e6 pixels of a cubic volume (a pixel of a higher order volume costs more
+// evaluations: the limit shrinks with the orders' product).
+constexpr double kPipelinePixels = 1e6;
+
+std::uint64_t resident_bytes_now() {
+  std::ifstream statm("/proc/self/statm");
+  std::uint64_t size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+}  // namespace
+
+PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir) {
+  const auto start = std::chrono::steady_clock::now();
+  PipelineOutcome outcome;
+  const auto finish = [&](PipelineOutcome::Kind kind) {
+    outcome.kind = kind;
+    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return outcome;
+  };
+  const PipelineJob job = generate_pipeline_job(data);
+  try {
+    const Scene scene = parse_scene(job.scene_json, work_dir / "scene.json");
+    SliceParams sp;
+    sp.tracing = parse_tracing_strategy(job.tracing).value_or(TracingStrategy::kFlood);
+    sp.newton.residual_tolerance_model = job.residual_tolerance_mm;
+    sp.outline_tolerance_mm = job.outline_tolerance_mm;
+    sp.memory_limit_bytes = kPipelineMemoryLimit;
+    const Slicer slicer(scene, sp);
+    const SliceLayout& L = slicer.layout();
+    JobParams jp;
+    jp.output_dir = work_dir / "job";
+    std::filesystem::remove_all(jp.output_dir);
+    jp.formats = job.formats;
+    jp.first_layer = std::min(L.num_layers - 1, static_cast<int>(job.first_layer_fraction * L.num_layers));
+    jp.last_layer = std::min(L.num_layers - 1, jp.first_layer + job.layer_count - 1);
+    jp.min_layers = 0;
+    jp.threads = job.threads;
+    double order_product = 1;
+    for (const Cell& c : scene.cells) {
+      const auto o = c.volume.orders();
+      order_product = std::max(order_product, static_cast<double>(o[0]) * o[1] * o[2]);
+    }
+    const double pixels =
+        static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1) * order_product / 64.0;
+    outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
+    if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
+    const std::uint64_t resident = resident_bytes_now();
+    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, kPipelineMemoryLimit});
+    check_job_fits(e, jp, kPipelineMemoryLimit, std::nullopt);
+#ifdef TRIVOX_FUZZ_HEAP
+    const long long heap_before = g_heap_bytes.load();
+    g_heap_peak.store(heap_before);
+#endif
+    const JobStats stats = run_slice_job(slicer, jp);
+#ifdef TRIVOX_FUZZ_HEAP
+    const double grown = static_cast<double>(g_heap_peak.load() - heap_before);
+    const double own_estimate = static_cast<double>(e.peak_memory_bytes) - static_cast<double>(resident);
+    outcome.heap_grown_bytes = grown;
+    outcome.estimate_bytes = own_estimate;
+    if (grown > 1.5 * std::max(0.0, own_estimate) + 64e6)
+      throw HarnessViolation("the job's heap grew by " + std::to_string(grown / 1e6) + " MB, more than 1.5 times its " +
+                             "own estimate of " + std::to_string(own_estimate / 1e6) + " MB plus 64 MB");
+#endif
+    if (stats.interrupted) throw HarnessViolation("a job with no stop flag reports itself interrupted");
+    const VerifyReport report = verify_output(jp.output_dir);
+    if (!report.ok()) throw HarnessViolation("a completed job does not verify: " + report.problems.front());
+    return finish(PipelineOutcome::Kind::kSliced);
+  } catch (const HarnessViolation&) {
+    throw;
+  } catch (const Error& e) {
+    // A documented refusal: bad or unworkable input, or a job too large for the limits.
+    outcome.refusal = std::string(e.what()).substr(0, 160);
+    return finish(PipelineOutcome::Kind::kRefused);
+  }
+}
+
 void prepare_scene_dir(const std::filesystem::path& dir, const std::filesystem::path& examples_models) {
   namespace fs = std::filesystem;
   fs::create_directories(dir / "models");
@@ -151,6 +272,8 @@ bool run_target(std::string_view target, std::span<const std::uint8_t> data, con
     run_scene(data, scene_dir);
   else if (target == "expression")
     run_expression(data);
+  else if (target == "pipeline")
+    run_pipeline(data, scene_dir / "pipeline");
   else
     return false;
   return true;

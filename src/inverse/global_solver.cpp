@@ -248,7 +248,8 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
 namespace {
 
 // The largest dot(direction, V) over the nets' images, to within `tolerance`, from above.
-double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 direction, double tolerance, int max_nets) {
+double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 direction, double tolerance,
+                      std::int64_t max_points) {
   struct Entry {
     double upper;  // max_along(direction) of the net's control points
     std::size_t order;
@@ -275,12 +276,13 @@ double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 directi
     std::push_heap(heap.begin(), heap.end(), later);
   };
   for (const detail::BezierNet& net : pieces) push(net);
-  for (int halvings = 0; !heap.empty(); ++halvings) {
+  for (std::int64_t work = 0; !heap.empty();) {
     std::pop_heap(heap.begin(), heap.end(), later);
     Entry top = std::move(heap.back());
     heap.pop_back();
     // Every net left is bounded by top.upper; the image reaches `attained`.
-    if (top.upper - attained <= tolerance || halvings >= max_nets) return top.upper;
+    if (top.upper - attained <= tolerance || work >= max_points) return top.upper;
+    work += static_cast<std::int64_t>(top.net.h.size());
     const std::array<double, 3> extent = top.net.extents();
     const int d = static_cast<int>(std::max_element(extent.begin(), extent.end()) - extent.begin());
     auto halves = top.net.halve(d);
@@ -292,14 +294,14 @@ double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 directi
 
 }  // namespace
 
-Box3 GlobalSolver::image_bounds(double tolerance_model, int max_nets) const {
+Box3 GlobalSolver::image_bounds(double tolerance_model, std::int64_t max_points) const {
   Box3 box;
   if (pieces_->nets.empty()) return box;
   for (int a = 0; a < 3; ++a) {
     Vec3 e{};
     e[a] = 1.0;
-    box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_nets);
-    box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_nets);
+    box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_points);
+    box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_points);
   }
   // The bounds hold the exact image; evaluating V rounds, by a few units in the last place of
   // the coordinates, so the box is widened by that much to hold every evaluated point too.
