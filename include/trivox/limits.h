@@ -12,4 +12,13 @@ inline constexpr int kMaxMaterials = 64;
 // unit or resolution mistake that would exhaust memory, and it is refused up front.
 inline constexpr long long kMaxLayerPixels = 1LL << 30;
 
+// Control points of one patch of a model file (all directions together). Readers check every
+// count from a file against these before they allocate anything for it, so a corrupt or
+// hostile header is an error naming the file and line, not an allocation of gigabytes.
+inline constexpr long long kMaxModelControlPoints = 100'000'000;
+// Coordinates per control point in a model file (G+Smo's geoDim, GoTools' dimension).
+inline constexpr int kMaxModelPointDim = 1000;
+// Auxiliary integers in the header of one GoTools object (a colour takes 4).
+inline constexpr int kMaxModelHeaderValues = 1000;
+
 }  // namespace trivox
