@@ -25,8 +25,10 @@ constexpr int kClassByParamDim[4] = {0, 100, 200, 700};  // SplineCurve, SplineS
 // bit for bit. Such a neighbour does not exist for every x and w (the quotients of adjacent
 // doubles may skip x); then w * x, which reads back within an ulp or two.
 double homogeneous(double x, double w) {
-  const double c = w * x;
-  if (!std::isfinite(c) || c / w == x) return c;
+  double c = w * x;
+  // x = c0 / w for a finite c0 near the largest double may give w * x = infinity.
+  if (!std::isfinite(c)) c = std::copysign(std::numeric_limits<double>::max(), x);
+  if (c / w == x) return c;
   double below = c, above = c;
   for (int step = 0; step < 4; ++step) {
     below = std::nextafter(below, -std::numeric_limits<double>::infinity());
