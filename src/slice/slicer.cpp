@@ -10,6 +10,7 @@
 
 #include "boundary_mesh.h"
 #include "cell_tracer.h"
+#include "fold_candidates.h"
 #include "scanline.h"
 #include "trivox/error.h"
 #include "trivox/raster/dither.h"
@@ -25,8 +26,27 @@ struct Slicer::Trivariate {
   // Traced for the whole layer before the cells (it trims some cell), rather than streamed
   // row by row for the one cell it parametrizes.
   bool traced_first = false;
+  // A folded volume the scene accepts: candidates from its pieces' boxes, every pixel by the
+  // global solver (fold_candidates.h, CellTracer).
+  std::optional<detail::FoldCandidates> fold;
 
-  Trivariate(const Volume& v, double tolerance_mm) : volume(&v), mesh(v, tolerance_mm), solver(v) {}
+  Trivariate(const Volume& v, double tolerance_mm, bool folds)
+      : volume(&v),
+        mesh(v, tolerance_mm),
+        solver(v),
+        fold(folds ? std::optional(detail::FoldCandidates(v)) : std::nullopt) {}
+  // The layer's candidate pixels; false when there are none.
+  bool candidates(const SliceLayout& L, double z_mm, double margin_mm, std::vector<detail::Segment2>& segments,
+                  detail::RowSpans& spans) const {
+    if (fold) {
+      fold->spans(L, z_mm, margin_mm, spans);
+      return std::any_of(spans.begin(), spans.end(), [](const auto& row) { return !row.empty(); });
+    }
+    mesh.cut(z_mm, segments);
+    if (segments.empty()) return false;
+    detail::candidate_spans(segments, L, margin_mm, spans);
+    return true;
+  }
 };
 
 struct Slicer::CellData {
@@ -131,8 +151,8 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
     auto& t = of_volume.at(static_cast<std::size_t>(v));
     if (t < 0) {
       t = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(
-          std::make_unique<Trivariate>(scene.volumes[static_cast<std::size_t>(v)].volume, outline_tolerance_mm_));
+      const SceneVolume& sv = scene.volumes[static_cast<std::size_t>(v)];
+      trivariates_.push_back(std::make_unique<Trivariate>(sv.volume, outline_tolerance_mm_, sv.folds));
     }
     return t;
   };
@@ -147,7 +167,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
       cd->trivariate = volume_trivariate(c.scene_volume);
     } else {
       cd->trivariate = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(std::make_unique<Trivariate>(c.volume, outline_tolerance_mm_));
+      trivariates_.push_back(std::make_unique<Trivariate>(c.volume, outline_tolerance_mm_, c.folds));
     }
     for (const TrimClause& clause : c.trim.clauses) {
       CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1};
@@ -194,7 +214,10 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
     cells_.push_back(std::move(cd));
   }
   Box3 bounds;
-  for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->mesh.bounds());
+  for (const auto& cd : cells_) {
+    const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd->trivariate)];
+    bounds.expand(tv.fold ? tv.fold->bounds() : tv.mesh.bounds());
+  }
   // The meshes lie within the tolerance of the true boundary; the layout keeps a margin of at
   // least a quarter of the finest pitch.
   const double margin_mm = std::max(outline_tolerance_mm_, 0.25 * finest_pitch_mm);
@@ -258,10 +281,9 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     auto& in = trims.inside[k];
     rows.resize(static_cast<std::size_t>(L.height_px));
     in.assign(static_cast<std::size_t>(st.pixels_total), 0);
-    tv.mesh.cut(st.z_mm, segments);
-    if (segments.empty()) continue;
-    detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
-    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
+    if (!tv.candidates(L, st.z_mm, 2.0 * outline_tolerance_mm_, segments, spans)) continue;
+    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                              tv.fold.has_value());
     tracer.trace_layer(L, st.z_mm, spans, [&](int r, const detail::TracedRow& row) {
       rows[static_cast<std::size_t>(r)] = row;
       for (int col : row.cols) in[static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col)] = 1;
@@ -316,9 +338,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
     const bool traced_first = tv.traced_first;
     std::optional<detail::CellTracer> tracer;
     if (!traced_first) {
-      tv.mesh.cut(st.z_mm, segments);
-      if (segments.empty()) continue;
-      detail::candidate_spans(segments, L, 2.0 * outline_tolerance_mm_, spans);
+      if (!tv.candidates(L, st.z_mm, 2.0 * outline_tolerance_mm_, segments, spans)) continue;
       if (cd.model_space_clauses && params_.model_space_narrowing) {
         // Only pixels that pass the volume and shell clauses are worth inverting: those
         // clauses are decided without this cell's inverse.
@@ -354,7 +374,8 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
           detail::intersect_spans(spans, outline_spans);
         }
       }
-      tracer.emplace(*tv.volume, tv.solver, params_, L.width_px);
+      tracer.emplace(*tv.volume, tv.solver, params_, L.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                     tv.fold.has_value());
     }
     // The model-space clauses are tested on the inverted pixels where they did not choose them.
     const bool test_model_space = traced_first || (cd.model_space_clauses && !params_.model_space_narrowing);

@@ -51,6 +51,11 @@ struct Cell {
   // The clauses every pixel of the cell satisfies besides lying inside `volume`; empty for a
   // whole volume.
   Trim trim{};
+  // The volume folds over itself (det J takes both signs on the sampled grid) and the scene
+  // accepts it ("allow_fold"): it is sliced by the fold rules (docs/SCENE.md, "Folded
+  // cells"): a pixel is inside when any of its preimages is, and takes the material at the
+  // preimage of largest |det J|.
+  bool folds = false;
 };
 
 // A named trivariate of the scene ("volumes" in the scene file): a cell's parametrization
@@ -59,6 +64,7 @@ struct SceneVolume {
   std::string name;
   std::string pointer;  // JSON pointer of its entry
   Volume volume;        // model space (mm), placement applied
+  bool folds = false;   // as Cell::folds
 };
 
 // A file a scene reads, with the SHA-256 of its bytes (for the job manifest).
