@@ -105,6 +105,10 @@ struct Token {
   int line = 0;
 };
 
+bool is_blank(char c) noexcept { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f' || c == '\v'; }
+
+// Reads the values one at a time from the text (no token list: a large file costs no more
+// memory than the model it holds).
 class G2Reader {
  public:
   G2Reader(std::string_view text, const std::string& source) : text_(text), source_(source) {}
@@ -115,59 +119,77 @@ class G2Reader {
   [[noreturn]] void fail(int line, const std::string& where, std::string rule) const {
     throw InputError(source_, line, where, std::move(rule));
   }
-  void tokenize();
-  bool at_end() const noexcept { return next_ >= tokens_.size(); }
-  // The line to name for a value that is missing: the last line of the file.
-  int end_line() const noexcept { return tokens_.empty() ? 0 : tokens_.back().line; }
-  const Token& take(const std::string& where, const std::string& what);
+  // Moves past blanks (counting lines); a control character is an error.
+  void skip_blanks();
+  bool at_end() {
+    skip_blanks();
+    return pos_ >= text_.size();
+  }
+  // The line of the next value (after skip_blanks).
+  int next_line() {
+    skip_blanks();
+    return line_;
+  }
+  // The line to name for a value that is missing: the last line that holds something.
+  int end_line() const noexcept { return last_line_; }
+  Token take(const std::string& where, const std::string& what);
+  // How many values follow, counting no further than `limit`; the position does not move.
+  std::int64_t values_ahead(std::int64_t limit) const;
   std::int64_t read_int(const std::string& where, const std::string& what, std::int64_t lo, std::int64_t hi);
   double read_double(const std::string& where, const std::string& what);
-  // Whether tokens_[i] starts a line that reads as a complete object header.
-  bool header_at(std::size_t i) const;
+  // Whether the line starting at `at` reads as a complete object header.
+  bool header_line_at(std::size_t at) const;
   void read_object(Model& model, int object);
   KnotVector read_basis(const std::string& where, int dir);
   void skip_object(Model& model, std::int64_t class_number, int line);
 
   std::string_view text_;
   const std::string& source_;
-  std::vector<Token> tokens_;
-  std::vector<std::size_t> line_start_;  // index of the first token of each line that has one
-  std::size_t next_ = 0;
+  std::size_t pos_ = 0;
+  int line_ = 1;
+  int last_line_ = 0;
 };
 
-void G2Reader::tokenize() {
-  int line = 1;
-  std::size_t i = 0;
-  const std::size_t n = text_.size();
-  while (i < n) {
-    const char c = text_[i];
+void G2Reader::skip_blanks() {
+  while (pos_ < text_.size()) {
+    const char c = text_[pos_];
     if (c == '\n') {
-      ++line;
-      ++i;
-      continue;
+      ++line_;
+    } else if (!is_blank(c)) {
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        fail(line_, "", fmt::format("control character 0x{:02x}: a .g2 file is text", static_cast<unsigned char>(c)));
+      return;
     }
-    if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v') {
-      ++i;
-      continue;
-    }
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      fail(line, "", fmt::format("control character 0x{:02x}: a .g2 file is text", static_cast<unsigned char>(c)));
-    const std::size_t start = i;
-    while (i < n && !(text_[i] == ' ' || text_[i] == '\t' || text_[i] == '\n' || text_[i] == '\r' || text_[i] == '\f' ||
-                      text_[i] == '\v'))
-      ++i;
-    if (tokens_.empty() || tokens_.back().line != line) line_start_.push_back(tokens_.size());
-    tokens_.push_back({text_.substr(start, i - start), line});
+    ++pos_;
   }
 }
 
-const Token& G2Reader::take(const std::string& where, const std::string& what) {
+Token G2Reader::take(const std::string& where, const std::string& what) {
   if (at_end()) fail(end_line(), where, fmt::format("unexpected end of file: expected {}", what));
-  return tokens_[next_++];
+  const std::size_t start = pos_;
+  while (pos_ < text_.size() && !is_blank(text_[pos_])) {
+    const char c = text_[pos_];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      fail(line_, "", fmt::format("control character 0x{:02x}: a .g2 file is text", static_cast<unsigned char>(c)));
+    ++pos_;
+  }
+  return {text_.substr(start, pos_ - start), line_};
+}
+
+std::int64_t G2Reader::values_ahead(std::int64_t limit) const {
+  std::int64_t count = 0;
+  std::size_t i = pos_;
+  while (count < limit) {
+    while (i < text_.size() && is_blank(text_[i])) ++i;
+    if (i >= text_.size()) break;
+    ++count;
+    while (i < text_.size() && !is_blank(text_[i])) ++i;
+  }
+  return count;
 }
 
 std::int64_t G2Reader::read_int(const std::string& where, const std::string& what, std::int64_t lo, std::int64_t hi) {
-  const Token& t = take(where, what);
+  const Token t = take(where, what);
   const auto v = io_detail::parse_integer(t.text);
   if (!v) fail(t.line, where, fmt::format("expected {} (an integer), found '{}'", what, t.text));
   if (*v < lo || *v > hi) fail(t.line, where, fmt::format("{} is {}, outside {}..{}", what, *v, lo, hi));
@@ -175,36 +197,42 @@ std::int64_t G2Reader::read_int(const std::string& where, const std::string& wha
 }
 
 double G2Reader::read_double(const std::string& where, const std::string& what) {
-  const Token& t = take(where, what);
+  const Token t = take(where, what);
   const auto v = io_detail::parse_double(t.text);
   if (!v) fail(t.line, where, fmt::format("expected {} (a number), found '{}'", what, t.text));
   if (!std::isfinite(*v)) fail(t.line, where, fmt::format("{} is {}: every number must be finite", what, t.text));
   return *v;
 }
 
-bool G2Reader::header_at(std::size_t i) const {
-  const int line = tokens_[i].line;
-  std::size_t end = i;
-  while (end < tokens_.size() && tokens_[end].line == line) ++end;
-  const std::size_t count = end - i;
-  if (count < 4) return false;
-  std::int64_t v[4];
-  for (std::size_t k = 0; k < 4; ++k) {
-    const auto x = io_detail::parse_integer(tokens_[i + k].text);
+bool G2Reader::header_line_at(std::size_t at) const {
+  std::int64_t v[4] = {0, 0, 0, 0};
+  std::int64_t count = 0;
+  std::size_t i = at;
+  for (;;) {
+    while (i < text_.size() && text_[i] != '\n' && is_blank(text_[i])) ++i;
+    if (i >= text_.size() || text_[i] == '\n') break;
+    const std::size_t start = i;
+    while (i < text_.size() && !is_blank(text_[i])) ++i;
+    const auto x = io_detail::parse_integer(text_.substr(start, i - start));
     if (!x) return false;
-    v[k] = *x;
+    if (count < 4) v[count] = *x;
+    ++count;
+    if (count == 4 &&
+        (class_name(v[0]) == nullptr || v[1] != 1 || v[2] < 0 || v[3] < 0 || v[3] > kMaxModelHeaderValues))
+      return false;
+    if (count > 4 && count > 4 + v[3]) return false;
   }
-  if (class_name(v[0]) == nullptr || v[1] != 1 || v[2] < 0 || v[3] < 0) return false;
-  if (static_cast<std::int64_t>(count) != 4 + v[3]) return false;
-  for (std::size_t k = 4; k < count; ++k)
-    if (!io_detail::parse_integer(tokens_[i + k].text)) return false;
-  return true;
+  return count >= 4 && count == 4 + v[3];
 }
 
 Model G2Reader::read() {
   if (text_.find_first_not_of(" \t\r\n\f\v") == std::string_view::npos)
     fail(0, "", "file is empty: a GoTools file holds objects, each starting with a header such as '700 1 0 0'");
-  tokenize();
+  for (std::size_t i = 0; i < text_.size(); ++i) {  // the last line that holds something
+    if (!is_blank(text_[i])) last_line_ = line_;
+    if (text_[i] == '\n') ++line_;
+  }
+  line_ = 1;
   Model model{source_, {}, {}};
   int object = 0;
   while (!at_end()) read_object(model, object++);
@@ -218,7 +246,7 @@ Model G2Reader::read() {
 
 void G2Reader::read_object(Model& model, int object) {
   // ObjectHeader: class, major version, minor version, auxiliary count, auxiliary integers.
-  const int line = tokens_[next_].line;
+  const int line = next_line();
   std::string where = fmt::format("object {}", object);
   const std::int64_t cls = read_int(where, "a class number (the object header's first value)", 0, INT32_MAX);
   const char* name = class_name(cls);
@@ -259,13 +287,13 @@ void G2Reader::read_object(Model& model, int object) {
     // Each count is at most kMaxModelControlPoints, so the product of two never overflows.
     total *= knots.back().num_ctrl();
     if (total > kMaxModelControlPoints)
-      fail(tokens_[next_ - 1].line, where,
+      fail(line_, where,
            fmt::format("the bases have {} coefficients together so far, above the limit of {}", total,
                        kMaxModelControlPoints));
   }
   const int stride = dim + (rational ? 1 : 0);
   const std::int64_t values = total * stride;
-  const auto left = static_cast<std::int64_t>(tokens_.size() - next_);
+  const std::int64_t left = values_ahead(values);
   if (values > left)
     fail(end_line(), where,
          fmt::format("the file ends after {} of the {} coefficient values ({} {} of {} value{}){}", left, values, total,
@@ -276,7 +304,7 @@ void G2Reader::read_object(Model& model, int object) {
   if (rational) weights.reserve(static_cast<std::size_t>(total));
   std::vector<double> h(static_cast<std::size_t>(stride));
   for (std::int64_t i = 0; i < total; ++i) {
-    const int point_line = tokens_[next_].line;
+    const int point_line = next_line();
     for (int c = 0; c < stride; ++c)
       h[static_cast<std::size_t>(c)] =
           read_double(where, fmt::format("value {} of coefficient {} (0-based, u fastest)", c + 1, i));
@@ -309,7 +337,7 @@ void G2Reader::read_object(Model& model, int object) {
 
 KnotVector G2Reader::read_basis(const std::string& where, int dir) {
   const char* d = kDirection[dir];
-  const int line = at_end() ? end_line() : tokens_[next_].line;
+  const int line = at_end() ? end_line() : next_line();
   const auto n = read_int(where, fmt::format("the number of coefficients along {}", d), 1, kMaxModelControlPoints);
   const auto order = static_cast<int>(read_int(where, fmt::format("the order along {} (degree + 1)", d), 1, INT32_MAX));
   if (order > kMaxOrder)
@@ -319,7 +347,7 @@ KnotVector G2Reader::read_basis(const std::string& where, int dir) {
          fmt::format("{} coefficients along {} with order {}: a basis has at least as many coefficients as its order",
                      n, d, order));
   const std::int64_t count = n + order;
-  if (count > static_cast<std::int64_t>(tokens_.size() - next_))
+  if (values_ahead(count) < count)
     fail(end_line(), where,
          fmt::format("the file ends within the {} knots along {} ({} coefficients + order {})", count, d, n, order));
   std::vector<double> knots;
@@ -334,19 +362,21 @@ KnotVector G2Reader::read_basis(const std::string& where, int dir) {
 }
 
 void G2Reader::skip_object(Model& model, std::int64_t class_number, int line) {
-  // Up to the first line after the header that reads as a header, or to the end.
-  std::size_t end = tokens_.size();
-  for (auto l = std::lower_bound(line_start_.begin(), line_start_.end(), next_); l != line_start_.end(); ++l)
-    if (header_at(*l)) {
-      end = *l;
-      break;
-    }
-  const int last_line = end > next_ ? tokens_[end - 1].line : line;
+  // Up to the first line after the header's that reads as a header, or to the end.
+  int last_line = line;
+  while (pos_ < text_.size() && text_[pos_] != '\n') ++pos_;
+  while (pos_ < text_.size()) {
+    ++pos_;  // past the '\n'
+    ++line_;
+    if (header_line_at(pos_)) break;
+    const std::size_t eol = std::min(text_.find('\n', pos_), text_.size());
+    if (text_.substr(pos_, eol - pos_).find_first_not_of(" \t\r\f\v") != std::string_view::npos) last_line = line_;
+    pos_ = eol;
+  }
   model.notes.push_back(ModelNote{
       line, fmt::format("skipped a {} (class {}, lines {} to {}): trivox reads SplineCurve, SplineSurface and "
                         "SplineVolume objects",
                         class_name(class_number), class_number, line, last_line)});
-  next_ = end;
 }
 
 }  // namespace
