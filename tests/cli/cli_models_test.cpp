@@ -124,5 +124,17 @@ TEST(CliModels, InfoSaysWhereAFoldedPatchFolds) {
   EXPECT_EQ(folds[0]["w"][1], 1.0);
 }
 
+// A point on camembert.xml's axis (the face u = 0 collapses onto it) answers degenerate with
+// one preimage, not a list of near-duplicates along the collapsed edge.
+TEST(CliModels, ProbeAnswersDegenerateWithOnePreimageOnACollapsedEdge) {
+  const fs::path dir = shared_data_dir();
+  if (dir.empty()) GTEST_SKIP() << shared_data_missing_message();
+  const CliResult r = run_cli("probe " + shell_quote(dir / "volumes/gismo/camembert.xml"), "0 0 0.5\n");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json line = nlohmann::json::parse(r.out);
+  EXPECT_EQ(line.at("status"), "degenerate") << r.out;
+  EXPECT_EQ(line.at("preimages").size(), 1u) << r.out;
+}
+
 }  // namespace
 }  // namespace trivox::test
