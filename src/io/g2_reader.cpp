@@ -284,12 +284,13 @@ void G2Reader::read_object(Model& model, int object) {
   std::int64_t total = 1;
   for (int d = 0; d < param_dim; ++d) {
     knots.push_back(read_basis(where, d));
-    // Each count is at most kMaxModelControlPoints, so the product of two never overflows.
-    total *= knots.back().num_ctrl();
-    if (total > kMaxModelControlPoints)
+    const std::int64_t n = knots.back().num_ctrl();
+    const std::optional<std::int64_t> product = product_within(total, n, kMaxControlPoints);
+    if (!product)
       fail(line_, where,
-           fmt::format("the bases have {} coefficients together so far, above the limit of {}", total,
-                       kMaxModelControlPoints));
+           fmt::format("the bases have {} coefficients together so far, above the limit of {}", total * n,
+                       kMaxControlPoints));
+    total = *product;
   }
   const int stride = dim + (rational ? 1 : 0);
   const std::int64_t values = total * stride;
@@ -338,7 +339,7 @@ void G2Reader::read_object(Model& model, int object) {
 KnotVector G2Reader::read_basis(const std::string& where, int dir) {
   const char* d = kDirection[dir];
   const int line = at_end() ? end_line() : next_line();
-  const auto n = read_int(where, fmt::format("the number of coefficients along {}", d), 1, kMaxModelControlPoints);
+  const auto n = read_int(where, fmt::format("the number of coefficients along {}", d), 1, kMaxControlPoints);
   const auto order = static_cast<int>(read_int(where, fmt::format("the order along {} (degree + 1)", d), 1, INT32_MAX));
   if (order > kMaxOrder)
     fail(line, where, fmt::format("order {} along {}: trivox evaluates orders up to {}", order, d, kMaxOrder));

@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "construct/construct_util.h"
 #include "scene/scene_parse.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
@@ -167,7 +166,10 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
       Constructed built = coons(faces, p);
       if (!untangling) return built;
       UntangleResult r = untangle(built.volume.spline(), *untangling);
-      return detail::finish("coons", std::move(r.spline), check);
+      Volume volume(std::move(r.spline));
+      ConstructionReport report = inspect_volume(volume, check);
+      report.constructor = "coons";
+      return Constructed{std::move(volume), std::move(report)};
     };
     if (const auto all = c.find("faces")) {
       for (int i = 0; i < 6; ++i)

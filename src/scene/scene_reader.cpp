@@ -231,9 +231,9 @@ FractionPolicy parse_policy(const JsonView& node) {
   if (const auto p = node.find("policy")) {
     const std::string& s = p->string();
     if (s == "error")
-      policy.policy = SumPolicy::error;
+      policy.policy = SumPolicy::kError;
     else if (s == "normalise" || s == "normalize")
-      policy.policy = SumPolicy::normalise;
+      policy.policy = SumPolicy::kNormalise;
     else
       p->fail(fmt::format("expected \"error\" or \"normalise\", got \"{}\"", s));
   }

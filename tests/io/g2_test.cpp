@@ -176,7 +176,7 @@ TEST(G2Reader, EveryRuleNamesTheLine) {
 
 TEST(G2Reader, HugeCountsAreRefusedBeforeAllocating) {
   // 1e8 coefficients in each of three directions would overflow 64 bits when multiplied and
-  // ask for petabytes; the limit (kMaxModelControlPoints) and the file's length refuse them
+  // ask for petabytes; the limit (kMaxControlPoints) and the file's length refuse them
   // first, within microseconds.
   const std::string per_dir = "100000000 2\n0 0 1 1\n";
   try {

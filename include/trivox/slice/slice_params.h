@@ -17,8 +17,8 @@ enum class TracingStrategy {
   kPreviousPoint,  // the previous pixel of the row
   kPreviousLine,   // the previous pixel of the row, else the pixel above
   kFull,           // any already solved 8-neighbour (left, up-left, up, up-right)
-  kPredict,        // full, but first the quadratic through the row's last three solutions,
-                   // checked with one evaluation
+  kPredict,        // full, but first the cubic through the row's last four solutions,
+                   // checked with one evaluation (SLICING.md)
   kFlood,          // predict, then the nearest solved pixel of this row or the row above
                    // (within 64 pixels) before the global solver: a span that starts where
                    // the row above had no solved neighbour is reached from inside the cell
