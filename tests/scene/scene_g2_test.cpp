@@ -52,10 +52,9 @@ TEST(SceneG2, VolumeAndTrimmingShellFromG2SliceAsFromTheOtherFormats) {
     write_g2(out, duck);
     std::ofstream(dir.path() / "box.g2") << kBoxG2;
   }
-  const Scene from_g2 =
-      parse_scene(scene_text(R"({ "file": "box.g2" })", "duck.g2"), dir.path() / "scene.json");
-  const Scene reference = parse_scene(scene_text(kInlineBox, (data / "surfaces/duck_brep.xml").string()),
-                                      dir.path() / "reference.json");
+  const Scene from_g2 = parse_scene(scene_text(R"({ "file": "box.g2" })", "duck.g2"), dir.path() / "scene.json");
+  const Scene reference =
+      parse_scene(scene_text(kInlineBox, (data / "surfaces/duck_brep.xml").string()), dir.path() / "reference.json");
   ASSERT_EQ(from_g2.cells.size(), 1u);
   ASSERT_EQ(from_g2.cells[0].trim.clauses.size(), 1u);
   EXPECT_EQ(from_g2.input_files.size(), 2u);  // both .g2 files, hashed for the manifest
