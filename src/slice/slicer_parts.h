@@ -77,6 +77,11 @@ struct Slicer::LayerBuffers {
 // the owners of overlapping cells' pixels, scratch reused from cell to cell, the counters
 // and the stage clock.
 struct Slicer::LayerWork {
+  // A constructor rather than aggregate initialization: clang's -Wmissing-field-initializers
+  // (an error in the fuzz and sanitizer builds) flags every member `LayerWork{st, buffers}`
+  // leaves out.
+  LayerWork(LayerStats& s, std::unique_ptr<LayerBuffers> b) : stats(s), buffers(std::move(b)) {}
+
   LayerStats& stats;
   std::unique_ptr<LayerBuffers> buffers;
   // With one cell, a pixel's owner is that cell wherever the pixel is inside: no per-pixel
