@@ -128,8 +128,9 @@ void run(const SliceOptions& so) {
   job.stop = &g_stop;
   job.manifest_interval_seconds = so.manifest_interval_s;
 
-  const Scene scene = read_scene(o.scene);
-  const SliceParams params = slice_params_of(o, scene);
+  const Scene scene = read_scene(o.scene, &g_stop);
+  SliceParams params = slice_params_of(o, scene);
+  params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
   if (!o.no_checks) {

@@ -58,4 +58,13 @@ class IoError : public Error {
   using Error::Error;
 };
 
+// A long computation saw its caller's stop flag raised (a `stop` member of its parameters,
+// set from a signal handler, a progress callback or another thread) and gave up, leaving
+// nothing half-written. Not a problem with the input: the same call without the stop
+// succeeds.
+class CancelledError : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace trivox

@@ -160,7 +160,10 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     CoonsParams p;
     p.check = check;
     std::optional<UntangleParams> untangling;
-    if (const auto u = c.find("untangle")) untangling = parse_untangle(*u);
+    if (const auto u = c.find("untangle")) {
+      untangling = parse_untangle(*u);
+      untangling->stop = ctx.stop();
+    }
     // The Coons volume, untangled when asked: only its interior control points move.
     auto make = [&](const std::array<TensorSpline, 6>& faces) {
       Constructed built = coons(faces, p);

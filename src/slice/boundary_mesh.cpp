@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "trivox/error.h"
+
 namespace trivox::detail {
 
 namespace {
@@ -53,35 +55,50 @@ double face_deviation(const Volume& v, int fixed, double at, int a, const std::v
 
 }  // namespace
 
-BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm) {
+std::int64_t boundary_mesh_vertices(const std::array<int, 3>& n) noexcept {
+  const std::int64_t a = n[0], b = n[1], c = n[2];
+  return 2 * (a * b + b * c + c * a);
+}
+
+BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int64_t max_vertices,
+                                 const std::atomic<bool>* stop) {
   const ParamBox& dom = v.domain();
   std::array<int, 3> n{};
   // Start from a few samples per polynomial piece and double where a face is too coarse.
   for (int d = 0; d < 3; ++d)
     n[static_cast<std::size_t>(d)] =
         std::max(3, 2 * (static_cast<int>(v.spline().knots(d).interior_breaks().size()) + 1) + 1);
+  // A volume of very many pieces starts coarser, within the budget (2 samples at least).
+  while (boundary_mesh_vertices(n) > max_vertices) {
+    auto most = std::max_element(n.begin(), n.end());
+    if (*most <= 2) break;
+    *most = std::max(2, *most / 2 + 1);
+  }
   constexpr int kMaxSamples = 4096;
-  for (int round = 0; round < 12; ++round) {
+  double deviation = 0;
+  for (;;) {  // at most 12 rounds: a direction doubles from 3 to kMaxSamples in 11
+    if (stop != nullptr && stop->load()) throw CancelledError("stopped while building a cell's outline mesh");
     std::array<std::vector<double>, 3> t;
     for (int d = 0; d < 3; ++d)
       t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n[static_cast<std::size_t>(d)]);
     std::array<bool, 3> refine{false, false, false};
+    deviation = 0;
     for (int fixed = 0; fixed < 3; ++fixed) {
       const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
       for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
-        if (face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]) >
-            tolerance_mm) {
-          refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
-        }
+        const double face =
+            face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]);
+        // NaN (a face whose points overflow) counts as too coarse.
+        if (!(face <= tolerance_mm)) refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
+        deviation = std::isnan(face) ? HUGE_VAL : std::max(deviation, face);
       }
     }
-    bool any = false;
+    std::array<int, 3> next = n;
     for (int d = 0; d < 3; ++d)
-      if (refine[static_cast<std::size_t>(d)] && n[static_cast<std::size_t>(d)] < kMaxSamples) {
-        n[static_cast<std::size_t>(d)] = std::min(kMaxSamples, 2 * n[static_cast<std::size_t>(d)] - 1);
-        any = true;
-      }
-    if (!any) break;
+      if (refine[static_cast<std::size_t>(d)] && next[static_cast<std::size_t>(d)] < kMaxSamples)
+        next[static_cast<std::size_t>(d)] = std::min(kMaxSamples, 2 * next[static_cast<std::size_t>(d)] - 1);
+    if (next == n || boundary_mesh_vertices(next) > max_vertices) break;
+    n = next;
   }
 
   // Vertices are numbered in the order the triangles first reach them, and shared edges and
@@ -146,7 +163,7 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm) {
   }
   std::vector<Vec3> vertices(grid_of.size());
   v.evaluate_many(params, vertices);
-  return {SlicedMesh(std::move(vertices), std::move(triangles)), n};
+  return {SlicedMesh(std::move(vertices), std::move(triangles)), n, deviation};
 }
 
 }  // namespace trivox::detail

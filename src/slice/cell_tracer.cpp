@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "check.h"
+#include "trivox/error.h"
 #include "trivox/inverse/trace.h"
 
 namespace trivox::detail {
@@ -314,6 +315,9 @@ void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSp
   std::vector<Mat3> step_jacobian(most);
   std::size_t oldest = 0, next = 0;
   while (oldest < total) {
+    // A raised stop flag ends the layer between rows (a layer of a pathological job may take
+    // long; the job then counts it as not done).
+    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while tracing a layer");
     while (next < total && next < oldest + most) {
       const int row = rows[next];
       start_row(slot(next), row, layout.y_of_row(row), spans[static_cast<std::size_t>(row)]);

@@ -8,10 +8,7 @@
 namespace trivox::detail {
 
 FoldCandidates::FoldCandidates(const Volume& volume) {
-  for (const TensorSpline& piece : bezier_patches(volume.spline())) {
-    boxes_.push_back(piece.control_box());
-    bounds_.expand(boxes_.back());
-  }
+  for (const TensorSpline& piece : bezier_patches(volume.spline())) boxes_.push_back(piece.control_box());
 }
 
 void FoldCandidates::spans(const SliceLayout& L, double z_mm, double margin_mm, RowSpans& rows) const {

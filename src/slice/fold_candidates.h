@@ -19,16 +19,12 @@ class FoldCandidates {
  public:
   explicit FoldCandidates(const Volume& volume);
 
-  // The union of the pieces' boxes: it holds the whole image, fold included.
-  const Box3& bounds() const noexcept { return bounds_; }
-
   // The pixels of the layer at z_mm whose centre lies within margin_mm of the box of a piece
   // whose z range, widened by margin_mm, holds z_mm; merged spans per row.
   void spans(const SliceLayout& layout, double z_mm, double margin_mm, RowSpans& rows) const;
 
  private:
   std::vector<Box3> boxes_;
-  Box3 bounds_;
 };
 
 }  // namespace trivox::detail

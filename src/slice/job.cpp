@@ -178,8 +178,9 @@ class JobRun {
 
  private:
   void slice_one(std::size_t task);
+  void slice_and_write(std::size_t task);
   void record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats);
-  bool stop_requested() const { return params_.stop != nullptr && params_.stop->load(); }
+  bool stop_requested() const { return cancelled_ || (params_.stop != nullptr && params_.stop->load()); }
   // Records what was completed so that --resume redoes only the rest. The manifest may be
   // unwritable too (a full disk); the previous one then stands, which is still consistent.
   void mark_failed(const std::exception& e) noexcept;
@@ -202,6 +203,7 @@ class JobRun {
   // together as each layer completes.
   std::mutex record_mutex_;
   int done_ = 0;
+  std::atomic<bool> cancelled_{false};  // a layer threw CancelledError
   std::chrono::steady_clock::time_point last_manifest_write_ = std::chrono::steady_clock::now();
 };
 
@@ -270,6 +272,16 @@ std::vector<std::string> JobRun::write_layer(int index, const LabelImage& labels
 // Task t < pending_.size() slices and writes pending layer t; the tasks after them feed the
 // stack writers the layers a resumed job kept.
 void JobRun::slice_one(std::size_t t) {
+  try {
+    slice_and_write(t);
+  } catch (const CancelledError&) {
+    // A stop flag (the job's or the slicer's) ended this layer part way: it is not recorded,
+    // no further layer starts, and --resume slices it.
+    cancelled_ = true;
+  }
+}
+
+void JobRun::slice_and_write(std::size_t t) {
   const bool refed = t >= pending_.size();
   const int index = refed ? refeed_[t - pending_.size()] : pending_[t];
   const SliceLayout& L = slicer_.layout();

@@ -24,7 +24,7 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
 
   // The buffers are not handed back when the layer throws: a buffer in the pool is always
   // all zero.
-  LayerWork w{st, take_buffers()};
+  LayerWork w(st, take_buffers());
   w.several_cells = cells_.size() > 1;
   const auto owned_pixels = w.several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
   w.owner.assign(owned_pixels, -1);
@@ -47,15 +47,15 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   return result;
 }
 
-bool Slicer::Trivariate::candidates(const SliceLayout& layout, double z_mm, double margin_mm,
-                                    std::vector<Segment2>& segments, detail::RowSpans& spans) const {
+bool Slicer::Trivariate::candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
+                                    detail::RowSpans& spans) const {
   if (fold) {
-    fold->spans(layout, z_mm, margin_mm, spans);
+    fold->spans(layout, z_mm, band_mm, spans);
     return std::any_of(spans.begin(), spans.end(), [](const auto& row) { return !row.empty(); });
   }
   mesh.cut(z_mm, segments);
   if (segments.empty()) return false;
-  detail::candidate_spans(segments, layout, margin_mm, spans);
+  detail::candidate_spans(segments, layout, band_mm, spans);
   return true;
 }
 
@@ -74,7 +74,7 @@ void Slicer::trace_trimming_volumes(LayerWork& w) const {
     auto& in = w.traced_inside[k];
     rows.resize(static_cast<std::size_t>(L.height_px));
     in.assign(static_cast<std::size_t>(w.stats.pixels_total), 0);
-    if (!tv.candidates(L, w.stats.z_mm, 2.0 * outline_tolerance_mm_, w.segments, w.spans)) continue;
+    if (!tv.candidates(L, w.stats.z_mm, w.segments, w.spans)) continue;
     detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px, detail::CellTracer::kDefaultRowsInFlight,
                               tv.fold.has_value());
     tracer.trace_layer(L, w.stats.z_mm, w.spans, [&](int r, const detail::TracedRow& row) {
@@ -128,7 +128,7 @@ bool Slicer::passes_parametric_clauses(const CellData& cd, Vec3 uvw) {
 
 bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
-  if (!tv.candidates(layout_, w.stats.z_mm, 2.0 * outline_tolerance_mm_, w.segments, w.spans)) return false;
+  if (!tv.candidates(layout_, w.stats.z_mm, w.segments, w.spans)) return false;
   if (cd.model_space_clauses && params_.model_space_narrowing) narrow_to_model_space_clauses(cd, w);
   if (cd.parametric_outlines && params_.parametric_outlines) narrow_to_parametric_outlines(cd, w);
   return true;

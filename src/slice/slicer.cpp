@@ -1,7 +1,9 @@
 #include "trivox/slice/slicer.h"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -46,9 +48,26 @@ void Slicer::give_back(std::unique_ptr<LayerBuffers> buffers) const {
   free_buffers_.push_back(std::move(buffers));
 }
 
-std::unique_ptr<Slicer::Trivariate> Slicer::make_trivariate(const Volume& volume) const {
-  return std::make_unique<Trivariate>(volume, detail::build_boundary_mesh(volume, outline_tolerance_mm_).mesh);
+namespace {
+
+// Vertices an outline mesh of a cell whose image spans `box` may take: about two per pixel
+// of the box's six faces at printer resolution (a mesh finer than that decides no more
+// pixels by itself), from 2^14 to 2^24.
+std::int64_t pixel_budget(const Box3& box, const PrinterProfile& printer) {
+  const Vec3 size = box.size();
+  const double w = size.x / printer.pitch_x_mm() + 1, h = size.y / printer.pitch_y_mm() + 1,
+               l = size.z / printer.layer_thickness_mm + 1;
+  const double faces = 2 * (w * h + h * l + l * w);
+  return static_cast<std::int64_t>(std::clamp(faces, double{1 << 14}, double{1 << 24}));
 }
+
+// Samples per direction of a shell's surfaces (the same for all) within `max_vertices`.
+int shell_samples(const TrimShell& shell, std::int64_t max_vertices) {
+  const auto surfaces = static_cast<double>(std::max<std::size_t>(1, shell.surfaces.size() + shell.trimmed.size()));
+  return std::clamp(static_cast<int>(std::sqrt(static_cast<double>(max_vertices) / surfaces)), 3, 1024);
+}
+
+}  // namespace
 
 Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(std::move(params)) {
   params_.validate();
@@ -61,101 +80,167 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   const double finest_pitch_mm =
       std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm});
   outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(0.125 * finest_pitch_mm);
-  // Model-space shells decide pixels by their tessellation alone: half the outline
-  // tolerance when one is given, else an eighth of the finest pitch.
-  const double shell_tolerance_mm =
-      params_.outline_tolerance_mm ? 0.5 * *params_.outline_tolerance_mm : 0.125 * finest_pitch_mm;
-  // The control points' box holds every cell, so its layout bounds the final one: checking it
-  // first refuses a job too large to lay out before any outline is built.
+  check_model_fits(finest_pitch_mm);
+  prepare_cells();
+  lay_out(finest_pitch_mm);
+  build_meshes(finest_pitch_mm);
+}
+
+Slicer::~Slicer() = default;
+
+// The control points' box holds every cell, so its layout bounds the final one: checking it
+// first refuses a job too large to lay out, or too far from the origin for a double to
+// resolve its pixels, before anything is built.
+void Slicer::check_model_fits(double finest_pitch_mm) const {
+  const Box3 hull = scene_.bounds();
+  if (hull.empty()) return;
   try {
-    const Box3 hull = scene.bounds();
-    if (!hull.empty()) make_layout(hull, scene.printer);
+    make_layout(hull, scene_.printer);
   } catch (const Error& e) {
-    throw Error(fmt::format("{}: {}", scene.source, e.what()));
+    throw Error(fmt::format("{}: {}", scene_.source, e.what()));
   }
+  const double far = std::max({std::abs(hull.lo.x), std::abs(hull.lo.y), std::abs(hull.lo.z), std::abs(hull.hi.x),
+                               std::abs(hull.hi.y), std::abs(hull.hi.z)});
+  // Pixel centres, outlines and inverses are computed in model coordinates: a thousandth of
+  // a pixel must still be a difference a double can hold there.
+  const double resolution = far * std::numeric_limits<double>::epsilon();
+  if (!(resolution <= 1e-3 * finest_pitch_mm))
+    throw Error(
+        fmt::format("{}: the model reaches {:.6g} mm from the origin, where a double resolves only {:.3g} mm, "
+                    "more than a thousandth of the printer's {:.4g} mm pitch; place it nearer the origin "
+                    "(a placement's \"translate\")",
+                    scene_.source, far, resolution, finest_pitch_mm));
+}
+
+// The cells, their trivariates (each with its global solver) and their trim clauses; the
+// meshes come later, once the layout gives their budgets.
+void Slicer::prepare_cells() {
   // Named volumes get a trivariate when some cell uses them; the others one per cell.
-  std::vector<int> of_volume(scene.volumes.size(), -1);
+  std::vector<int> of_volume(scene_.volumes.size(), -1);
   auto volume_trivariate = [&](int v) {
     auto& t = of_volume.at(static_cast<std::size_t>(v));
     if (t < 0) {
       t = static_cast<int>(trivariates_.size());
-      const SceneVolume& sv = scene.volumes[static_cast<std::size_t>(v)];
-      trivariates_.push_back(make_trivariate(sv.volume));
+      const SceneVolume& sv = scene_.volumes[static_cast<std::size_t>(v)];
+      trivariates_.push_back(std::make_unique<Trivariate>(sv.volume));
       if (sv.folds) trivariates_.back()->fold.emplace(sv.volume);
     }
     return t;
   };
-  // Shells shared by several clauses are tessellated once: model-space shells to the shell
-  // tolerance, parametric ones to 1e-4 of the cell's parameter box.
-  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
   int shell_slots = 0;
-  for (const Cell& c : scene.cells) {
+  for (const Cell& c : scene_.cells) {
     auto cd = std::make_unique<CellData>();
     cd->cell = &c;
     if (c.scene_volume >= 0) {
       cd->trivariate = volume_trivariate(c.scene_volume);
     } else {
       cd->trivariate = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(make_trivariate(c.volume));
+      trivariates_.push_back(std::make_unique<Trivariate>(c.volume));
       if (c.folds) trivariates_.back()->fold.emplace(c.volume);
     }
     for (const TrimClause& clause : c.trim.clauses) {
-      CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1};
+      CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1, &clause};
       if (clause.kind == TrimKind::kVolume) {
         k.trivariate = volume_trivariate(clause.volume);
         trivariates_[static_cast<std::size_t>(k.trivariate)]->traced_first = true;
         cd->model_space_clauses = true;
+      } else if (clause.kind == TrimKind::kParametric) {
+        cd->parametric_clauses = true;
+        cd->parametric_outlines = cd->parametric_outlines || clause.side == TrimSide::kInside;
       } else {
-        const bool param = clause.kind == TrimKind::kParametric;
-        auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
-        // A parametric trim's tessellation is also its outline once mapped through the cell's
-        // volume (clamped to its domain, so a trim reaching past the domain's faces maps onto
-        // them): it is refined until that image lies within the outline tolerance too.
-        const Volume& volume = c.volume;
-        const std::function<Vec3(Vec3)> through_volume = [&volume](Vec3 uvw) {
-          return volume.evaluate(volume.domain().clamp(uvw));
-        };
-        if (!mesh) {
-          const double tolerance =
-              param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo) : shell_tolerance_mm;
-          auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_)
-                         : std::make_shared<ShellMesh>(*clause.shell, tolerance);
-          if (m->open_edges() > 0)
-            throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene.source, c.name,
-                                    clause.shell->name, m->open_edges()));
-          mesh = std::move(m);
-        }
-        k.mesh = mesh;
-        if (param) {
-          cd->parametric_clauses = true;
-          if (clause.side == TrimSide::kInside) {
-            auto& outline = outlines[{clause.shell.get(), &c}];
-            if (!outline) outline = std::make_shared<ShellMesh>(mesh->mapped(through_volume));
-            k.outline = outline;
-            cd->parametric_outlines = true;
-          }
-        } else {
-          k.shell_slot = shell_slots++;
-          cd->model_space_clauses = true;
-        }
+        k.shell_slot = shell_slots++;
+        cd->model_space_clauses = true;
       }
       cd->clauses.push_back(std::move(k));
     }
     cells_.push_back(std::move(cd));
   }
-  Box3 bounds;
-  for (const auto& cd : cells_) {
-    const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd->trivariate)];
-    bounds.expand(tv.fold ? tv.fold->bounds() : tv.mesh.bounds());  // a fold may reach past the outline
-  }
-  // The meshes lie within the tolerance of the true boundary; the layout keeps a margin of at
-  // least a quarter of the finest pitch.
-  const double margin_mm = std::max(outline_tolerance_mm_, 0.25 * finest_pitch_mm);
-  const Vec3 grow{margin_mm, margin_mm, margin_mm};
-  if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
-  layout_ = make_layout(bounds, scene.printer);
 }
 
-Slicer::~Slicer() = default;
+// The frame and the layers come from the cells' volumes alone: the tight box of each image
+// (GlobalSolver::image_bounds), never from an approximation of it, widened by a quarter of
+// the finest pitch. A setting such as the outline tolerance cannot move them.
+void Slicer::lay_out(double finest_pitch_mm) {
+  for (const auto& tv : trivariates_) {
+    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while bounding the cells");
+    tv->image = tv->solver.image_bounds(1e-3 * finest_pitch_mm);
+  }
+  Box3 bounds;
+  for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->image);
+  const double margin_mm = 0.25 * finest_pitch_mm;
+  const Vec3 grow{margin_mm, margin_mm, margin_mm};
+  if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
+  layout_ = make_layout(bounds, scene_.printer);
+}
+
+// Outline meshes within their budgets (half the memory limit at most, shared out by the
+// cells' sizes in pixels, before any is built), then the trim shells' meshes.
+void Slicer::build_meshes(double finest_pitch_mm) {
+  std::vector<std::int64_t> budgets;
+  double wanted = 0;
+  for (const auto& tv : trivariates_) {
+    budgets.push_back(pixel_budget(tv->image.empty() ? Box3{} : tv->image, scene_.printer));
+    wanted += static_cast<double>(budgets.back());
+  }
+  if (params_.memory_limit_bytes > 0) {
+    const double allowed = 0.5 * static_cast<double>(params_.memory_limit_bytes) /
+                           static_cast<double>(detail::kBoundaryMeshBytesPerVertex);
+    if (wanted > allowed)
+      for (std::int64_t& b : budgets)
+        b = std::max<std::int64_t>(64, static_cast<std::int64_t>(static_cast<double>(b) * allowed / wanted));
+  }
+  for (std::size_t k = 0; k < trivariates_.size(); ++k) {
+    Trivariate& tv = *trivariates_[k];
+    detail::BoundaryMesh built =
+        detail::build_boundary_mesh(*tv.volume, outline_tolerance_mm_, budgets[k], params_.stop);
+    tv.mesh = std::move(built.mesh);
+    // Pixels whose centres lie within twice the mesh's distance from the boundary are decided
+    // by the exact inverse: the tolerance asked for, or what the budget allowed.
+    tv.band_mm = 2.0 * std::max(outline_tolerance_mm_, built.deviation_mm);
+  }
+
+  // Model-space shells decide pixels by their tessellation alone: half the outline
+  // tolerance when one is given, else an eighth of the finest pitch. Shells shared by
+  // several clauses are tessellated once: model-space shells to the shell tolerance,
+  // parametric ones to 1e-4 of the cell's parameter box.
+  const double shell_tolerance_mm =
+      params_.outline_tolerance_mm ? 0.5 * *params_.outline_tolerance_mm : 0.125 * finest_pitch_mm;
+  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
+  for (auto& cd : cells_) {
+    const Cell& c = *cd->cell;
+    const std::int64_t budget = budgets[static_cast<std::size_t>(cd->trivariate)];
+    for (CellData::Clause& k : cd->clauses) {
+      if (k.kind == TrimKind::kVolume) continue;
+      if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while meshing a trim shell");
+      const TrimClause& clause = *k.source;
+      const bool param = clause.kind == TrimKind::kParametric;
+      auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
+      // A parametric trim's tessellation is also its outline once mapped through the cell's
+      // volume (clamped to its domain, so a trim reaching past the domain's faces maps onto
+      // them): it is refined until that image lies within the outline tolerance too.
+      const Volume& volume = c.volume;
+      const std::function<Vec3(Vec3)> through_volume = [&volume](Vec3 uvw) {
+        return volume.evaluate(volume.domain().clamp(uvw));
+      };
+      if (!mesh) {
+        const int max_samples = shell_samples(*clause.shell, budget);
+        const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo) : shell_tolerance_mm;
+        auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_,
+                                                     max_samples)
+                       : std::make_shared<ShellMesh>(*clause.shell, tolerance, max_samples);
+        if (m->open_edges() > 0)
+          throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene_.source, c.name,
+                                  clause.shell->name, m->open_edges()));
+        mesh = std::move(m);
+      }
+      k.mesh = mesh;
+      if (param && clause.side == TrimSide::kInside) {
+        auto& outline = outlines[{clause.shell.get(), &c}];
+        if (!outline) outline = std::make_shared<ShellMesh>(mesh->mapped(through_volume));
+        k.outline = outline;
+      }
+    }
+  }
+}
 
 }  // namespace trivox

@@ -22,8 +22,12 @@ namespace trivox {
 // One trivariate, inverted once per pixel and layer however many cells use it.
 struct Slicer::Trivariate {
   const Volume* volume;
-  SlicedMesh mesh;  // the outline mesh (boundary_mesh.h)
   GlobalSolver solver;
+  Box3 image;       // the tight box of V over its domain (GlobalSolver::image_bounds)
+  SlicedMesh mesh;  // the outline mesh (boundary_mesh.h)
+  // Half-width (mm) of the band around the outline whose pixels the exact inverse decides:
+  // twice the mesh's distance from the true boundary.
+  double band_mm = 0;
   // Traced for the whole layer before the cells (it trims some cell), rather than streamed
   // row by row for the one cell it parametrizes.
   bool traced_first = false;
@@ -31,11 +35,11 @@ struct Slicer::Trivariate {
   // pixel by the global solver (fold_candidates.h, CellTracer).
   std::optional<detail::FoldCandidates> fold;
 
-  Trivariate(const Volume& v, SlicedMesh outline) : volume(&v), mesh(std::move(outline)), solver(v) {}
+  explicit Trivariate(const Volume& v) : volume(&v), solver(v) {}
 
-  // The layer's candidate pixels into `spans` (the outline's cut, or the fold's boxes);
-  // false when there are none.
-  bool candidates(const SliceLayout& layout, double z_mm, double margin_mm, std::vector<Segment2>& segments,
+  // The layer's candidate pixels into `spans` (the outline's cut widened by the band, or the
+  // fold's boxes); false when there are none.
+  bool candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
                   detail::RowSpans& spans) const;
 };
 
@@ -49,6 +53,7 @@ struct Slicer::CellData {
     // model space (the pixels it keeps lie inside it, or within the outline margin).
     std::shared_ptr<const ShellMesh> outline;
     int shell_slot = -1;  // kShell: index of its cut in the layer's cuts
+    const TrimClause* source = nullptr;
   };
   const Cell* cell;
   int trivariate;
@@ -77,9 +82,6 @@ struct Slicer::LayerBuffers {
 // the owners of overlapping cells' pixels, scratch reused from cell to cell, the counters
 // and the stage clock.
 struct Slicer::LayerWork {
-  // A constructor rather than aggregate initialization: clang's -Wmissing-field-initializers
-  // (an error in the fuzz and sanitizer builds) flags every member `LayerWork{st, buffers}`
-  // leaves out.
   LayerWork(LayerStats& s, std::unique_ptr<LayerBuffers> b) : stats(s), buffers(std::move(b)) {}
 
   LayerStats& stats;

@@ -53,7 +53,10 @@ class Slicer {
   struct CellData;
   struct LayerBuffers;
   struct LayerWork;
-  std::unique_ptr<Trivariate> make_trivariate(const Volume& volume) const;
+  void check_model_fits(double finest_pitch_mm) const;
+  void prepare_cells();
+  void lay_out(double finest_pitch_mm);
+  void build_meshes(double finest_pitch_mm);
   std::unique_ptr<LayerBuffers> take_buffers() const;
   void give_back(std::unique_ptr<LayerBuffers> buffers) const;
 
