@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -114,9 +115,43 @@ void write_file(const std::filesystem::path& path, std::string_view text) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+// write_g2 promises that a model read from .g2 reads back identical.
+void check_g2_round_trip(const Model& model) {
+  std::ostringstream out;
+  write_g2(out, model);
+  Model back;
+  try {
+    back = read_g2(out.str(), "round-trip.g2");
+  } catch (const Error& e) {
+    throw HarnessViolation(std::string("an accepted .g2 model does not read back from write_g2: ") + e.what());
+  }
+  if (back.patches.size() != model.patches.size())
+    throw HarnessViolation("an accepted .g2 model reads back from write_g2 with another patch count");
+  for (std::size_t i = 0; i < model.patches.size(); ++i) {
+    const TensorSpline& s = model.patches[i].spline;
+    const TensorSpline& t = back.patches[i].spline;
+    const bool same = s.all_knots() == t.all_knots() && s.point_dim() == t.point_dim() &&
+                      std::equal(s.points().begin(), s.points().end(), t.points().begin(), t.points().end()) &&
+                      std::equal(s.weights().begin(), s.weights().end(), t.weights().begin(), t.weights().end()) &&
+                      model.patches[i].header_aux == back.patches[i].header_aux;
+    if (!same) throw HarnessViolation("an accepted .g2 model reads back from write_g2 with other values");
+  }
+}
+
 }  // namespace
 
 void run_itd(std::span<const std::uint8_t> data) { run_model_reader(&read_itd, data, "fuzz.itd"); }
+
+void run_g2(std::span<const std::uint8_t> data) {
+  Model model;
+  try {
+    model = read_g2(as_text(data), "fuzz.g2");
+  } catch (const Error&) {
+    return;
+  }
+  check_g2_round_trip(model);
+  check_round_trip(model);
+}
 
 void run_gismo_xml(std::span<const std::uint8_t> data) { run_model_reader(&read_gismo_xml, data, "fuzz.xml"); }
 
@@ -274,6 +309,8 @@ bool run_target(std::string_view target, std::span<const std::uint8_t> data, con
     run_expression(data);
   else if (target == "pipeline")
     run_pipeline(data, scene_dir / "pipeline");
+  else if (target == "g2")
+    run_g2(data);
   else
     return false;
   return true;

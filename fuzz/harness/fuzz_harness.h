@@ -25,13 +25,17 @@ class HarnessViolation : public std::logic_error {
 };
 
 // The targets, by the name used for fuzz/corpus/<name> and fuzz/regressions/<name>.
-inline constexpr std::string_view kTargets[] = {"itd", "gismo_xml", "scene", "expression", "pipeline"};
+inline constexpr std::string_view kTargets[] = {"itd", "gismo_xml", "scene", "expression", "g2", "pipeline"};
 
 // IRIT .itd text: read_itd; an accepted model must survive write_itd and read back with the
 // same patch count.
 void run_itd(std::span<const std::uint8_t> data);
 // G+Smo XML: read_gismo_xml; same round trip through write_itd.
 void run_gismo_xml(std::span<const std::uint8_t> data);
+// GoTools .g2 text: read_g2; an accepted model must survive write_g2 and read back with
+// identical knots, coordinates and weights (the writer's promise for a model read from .g2),
+// and survive write_itd like the other readers' models.
+void run_g2(std::span<const std::uint8_t> data);
 // Scene JSON text: parse_scene as if the file were `scene_dir`/scene.json (model files named
 // by the scene resolve there, see prepare_scene_dir); an accepted scene's materials are then
 // evaluated at the corners and centre of every cell.

@@ -205,7 +205,6 @@ PipelineJob generate_pipeline_job(std::span<const std::uint8_t> data) {
   for (int k = 0; k < n; ++k) {
     json cell = {{"name", "cell" + std::to_string(k)}, {"geometry", geometry(c)}, {"material", material(c, materials)}};
     if (c.pick(3) == 0) cell["placement"] = placement(c);
-    if (c.pick(4) == 0) cell["geometry"]["allow_fold"] = true;
     cells.push_back(cell);
   }
   scene["cells"] = cells;

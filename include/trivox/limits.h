@@ -32,4 +32,9 @@ inline constexpr int kMaxMaterials = 64;
 // unit or resolution mistake that would exhaust memory, and it is refused up front.
 inline constexpr long long kMaxLayerPixels = 1LL << 30;
 
+// Coordinates per control point in a model file (G+Smo's geoDim, GoTools' dimension).
+inline constexpr int kMaxModelPointDim = 1000;
+// Auxiliary integers in the header of one GoTools object (a colour takes 4).
+inline constexpr int kMaxModelHeaderValues = 1000;
+
 }  // namespace trivox

@@ -88,9 +88,10 @@ TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int
 // True when a geometry object names a constructor ("extrude", "ruled", "revolve", "sweep",
 // "coons", "shell"; docs/SCENE.md, "Constructed geometry").
 bool is_constructed_geometry(const JsonView& node);
-// True when `geometry` is a constructor with "allow_fold": true (the user accepts a volume
-// that folds over itself).
-bool construction_allows_fold(const JsonView& geometry);
+// True when `geometry` says "allow_fold": true, as a constructor's field or beside a model
+// file's "file" and "patch": the user accepts a volume that folds over itself, sliced by the
+// fold rules (docs/SCENE.md, "Folded cells").
+bool geometry_allows_fold(const JsonView& geometry);
 // The volume a constructor builds, with its report; fails naming the field when an input is
 // wrong (a fold is in the report, not an error).
 Constructed parse_construction(const JsonView& node, SceneContext& ctx);

@@ -150,7 +150,8 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
     parts.push_back({make_volume(node, parse_inline_spline(node, 3, 3), "the inline volume"), ""});
     return parts;
   }
-  node.expect_object({"file", "patch"});
+  node.expect_object({"file", "patch", "allow_fold"});
+  if (const auto a = node.find("allow_fold")) a->boolean();
   const Model& model = ctx.model(node.at("file"));
   const std::vector<const Patch*> vols = trivariates(model);
   const auto patch = node.find("patch");

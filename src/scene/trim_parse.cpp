@@ -30,15 +30,14 @@ std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx) 
                             parts.size()));
     Volume v = std::move(parts.front().volume);
     if (const auto p = e.find("placement")) v = parse_and_apply_placement(*p, v);
-    if (!construction_allows_fold(e.at("geometry"))) {
-      const JacobianReport r = check_jacobian(v);
-      if (r.classification == JacobianClass::kFolded)
-        e.at("geometry")
-            .fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points "
-                              "have several (u,v,w) and inside or outside of it is ambiguous",
-                              name.string()));
-    }
-    out.push_back(SceneVolume{name.string(), e.pointer(), std::move(v)});
+    const bool folds = check_jacobian(v).classification == JacobianClass::kFolded;
+    if (folds && !geometry_allows_fold(e.at("geometry")))
+      e.at("geometry")
+          .fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points have several "
+                            "(u,v,w); set \"allow_fold\": true in its geometry to accept it (a point is then "
+                            "inside when any of them is)",
+                            name.string()));
+    out.push_back(SceneVolume{name.string(), e.pointer(), std::move(v), folds});
   }
   return out;
 }

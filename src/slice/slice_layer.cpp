@@ -63,6 +63,18 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out, LayerRas
   return result;
 }
 
+bool Slicer::Trivariate::candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
+                                    detail::RowSpans& spans) const {
+  if (fold) {
+    fold->spans(layout, z_mm, band_mm, spans);
+    return std::any_of(spans.begin(), spans.end(), [](const auto& row) { return !row.empty(); });
+  }
+  mesh.cut(z_mm, segments);
+  if (segments.empty()) return false;
+  detail::candidate_spans(segments, layout, band_mm, spans);
+  return true;
+}
+
 // The trivariates that trim some cell are traced once for the whole layer, so every Boolean
 // clause and every cell they parametrize read the same inside set (the cells "A only", "B
 // only", "A and B" then partition the union by construction).
@@ -78,10 +90,9 @@ void Slicer::trace_trimming_volumes(LayerWork& w) const {
     auto& in = w.traced_inside[k];
     rows.resize(static_cast<std::size_t>(L.height_px));
     in.assign(static_cast<std::size_t>(w.stats.pixels_total), 0);
-    tv.mesh.cut(w.stats.z_mm, w.segments);
-    if (w.segments.empty()) continue;
-    detail::candidate_spans(w.segments, L, tv.band_mm, w.spans);
-    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
+    if (!tv.candidates(L, w.stats.z_mm, w.segments, w.spans)) continue;
+    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                              tv.fold.has_value());
     tracer.trace_layer(L, w.stats.z_mm, w.spans, [&](int r, const detail::TracedRow& row) {
       rows[static_cast<std::size_t>(r)] = row;
       for (int col : row.cols) in[static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col)] = 1;
@@ -133,9 +144,7 @@ bool Slicer::passes_parametric_clauses(const CellData& cd, Vec3 uvw) {
 
 bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
-  tv.mesh.cut(w.stats.z_mm, w.segments);
-  if (w.segments.empty()) return false;
-  detail::candidate_spans(w.segments, layout_, tv.band_mm, w.spans);
+  if (!tv.candidates(layout_, w.stats.z_mm, w.segments, w.spans)) return false;
   if (cd.model_space_clauses && params_.model_space_narrowing) narrow_to_model_space_clauses(cd, w);
   if (cd.parametric_outlines && params_.parametric_outlines) narrow_to_parametric_outlines(cd, w);
   return true;
@@ -197,7 +206,8 @@ void Slicer::slice_cell(int ci, LayerWork& w) const {
     return;
   }
   if (!candidate_pixels(cd, w)) return;
-  detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px);
+  detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                            tv.fold.has_value());
   tracer.trace_layer(layout_, w.stats.z_mm, w.spans, paint);
   w.counters += tracer.counters();
 }

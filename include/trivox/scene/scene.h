@@ -57,6 +57,11 @@ struct Cell {
   // The scene's greyscale source for this cell when it is a scalar source (one output,
   // evaluated like a material function), null otherwise (Scene::greyscale).
   std::shared_ptr<const MaterialFunction> grey_source{};
+  // The volume folds over itself (det J takes both signs on the sampled grid) and the scene
+  // accepts it ("allow_fold"): it is sliced by the fold rules (docs/SCENE.md, "Folded
+  // cells"): a pixel is inside when any of its preimages is, and takes the material at the
+  // preimage of largest |det J|.
+  bool folds = false;
 };
 
 // The scene's "greyscale" block: instead of dithering, a masked-resin printer exposes each
@@ -80,6 +85,7 @@ struct SceneVolume {
   std::string name;
   std::string pointer;  // JSON pointer of its entry
   Volume volume;        // model space (mm), placement applied
+  bool folds = false;   // as Cell::folds
 };
 
 // A file a scene reads, with the SHA-256 of its bytes (for the job manifest).
