@@ -98,6 +98,10 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 //               with the layer thickness, slice count and bitmap names.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
+// Whether the format is a stack output (its writers need the whole stack and write their
+// files, under a folder named after the format, when the job completes) rather than one
+// that writes files for every layer. Throws Error for an unknown name.
+bool is_stack_format(std::string_view format);
 
 // Zero-padded layer number for file names: at least 5 digits.
 std::string layer_number(int index, int total_layers);
