@@ -153,9 +153,9 @@ void print_estimate(const JobEstimate& e) {
              e.padded_layers);
   fmt::print("  bitmap: {} x {} px, {} voxels in all\n", e.width_px, e.height_px, e.pixels);
   if (e.sampled_layers > 0) {
-    // The layer files, the whole-job files and the manifest.
+    // The layer files, the whole-job files, stats.json and the manifest.
     fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
-               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 1, e.sampled_layers);
+               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 2, e.sampled_layers);
     if (e.scratch_bytes > 0)
       fmt::print("  spool files: about {} more while the job runs (removed when it completes)\n",
                  byte_text(e.scratch_bytes));
