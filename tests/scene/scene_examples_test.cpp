@@ -142,6 +142,20 @@ std::optional<json> block_json(const std::string& text, bool* members) {
   return std::nullopt;
 }
 
+// examples/README.md's table has a row for every bundled scene.
+TEST(SceneExamples, TheExamplesTableListsEveryScene) {
+  const std::string readme = read_text(kExamples.parent_path() / "README.md");
+  int scenes = 0;
+  for (const char* folder : {"scenes", "shared_scenes"})
+    for (const auto& e : fs::directory_iterator(kExamples.parent_path() / folder)) {
+      if (e.path().extension() != ".json") continue;
+      const std::string row = "| `" + std::string(folder) + "/" + e.path().filename().string() + "` |";
+      EXPECT_NE(readme.find(row), std::string::npos) << "examples/README.md has no row " << row;
+      ++scenes;
+    }
+  EXPECT_GE(scenes, 14);
+}
+
 bool keys_within(const json& object, const std::set<std::string>& keys) {
   for (const auto& item : object.items())
     if (!keys.count(item.key())) return false;
