@@ -21,6 +21,7 @@
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
 #include "trivox/slice/manifest.h"
+#include "trivox/slice/printed_extent.h"
 
 namespace trivox::cli {
 
@@ -179,6 +180,14 @@ void run(const SliceOptions& so) {
              o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
+  if (!st.printed.empty()) {
+    // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
+    const Vec3 printed = printed_box_mm(st.printed, L).size(), model = scene.bounds().size();
+    fmt::print("printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
+               printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
+               st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1,
+               st.layers_kept > 0 ? ", of the layers this run sliced" : "", model.x, model.y, model.z);
+  }
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
   if (job.shard_count > 1)
     fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index,

@@ -20,6 +20,7 @@
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
+#include "trivox/slice/printed_extent.h"
 #include "trivox/version.h"
 #include "tsan_handoff.h"
 
@@ -224,7 +225,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   std::mutex record_mutex;
   int done = 0;
   auto last_manifest_write = std::chrono::steady_clock::now();
-  auto record = [&](int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats) {
+  auto record = [&](int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats,
+                    const PrintedExtent& printed = {}) {
     std::vector<ManifestFile> entries;
     for (const std::string& name : written) {
       const FileDigest d = sha256_file(params.output_dir / name);
@@ -234,6 +236,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     manifest.files.insert(manifest.files.end(), entries.begin(), entries.end());
     stats.files.insert(stats.files.end(), written.begin(), written.end());
     if (layer_stats) stats.layers.push_back(std::move(*layer_stats));
+    stats.printed.add(printed);
     const auto now = std::chrono::steady_clock::now();
     if (std::chrono::duration<double>(now - last_manifest_write).count() >= params.manifest_interval_seconds) {
       manifest.sort_files();
@@ -284,7 +287,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
           auto files = w->write_layer(index, r.labels);
           written.insert(written.end(), files.begin(), files.end());
         }
-        record(index, std::move(written), std::move(r.stats));
+        record(index, std::move(written), std::move(r.stats), printed_extent(r.labels, range.first + index));
       } else {
         const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
         for (const auto& w : writers) {
@@ -341,6 +344,25 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   write_stats_json(params.output_dir / stats_name, slicer, stats);
   return stats;
 }
+
+namespace {
+
+// The printed extent (whole voxels with a material) beside the model's box, in mm.
+nlohmann::json extent_json(const Slicer& slicer, const JobStats& stats) {
+  const auto box_json = [](const Box3& b) {
+    if (b.empty()) return nlohmann::json(nullptr);
+    const Vec3 size = b.size();
+    return nlohmann::json{{"size_mm", {size.x, size.y, size.z}}, {"lo_mm", {b.lo.x, b.lo.y, b.lo.z}},
+                          {"hi_mm", {b.hi.x, b.hi.y, b.hi.z}}};
+  };
+  nlohmann::json printed = box_json(printed_box_mm(stats.printed, stats.layout));
+  if (!stats.printed.empty())
+    printed["voxels"] = {stats.printed.col_hi - stats.printed.col_lo + 1, stats.printed.row_hi - stats.printed.row_lo + 1,
+                         stats.printed.layer_hi - stats.printed.layer_lo + 1};
+  return {{"printed", printed}, {"model", box_json(slicer.scene().bounds())}};
+}
+
+}  // namespace
 
 void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, const JobStats& stats) {
   using nlohmann::json;
@@ -416,6 +438,7 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
                 {"x0_mm", L.x0_mm},
                 {"y_top_mm", L.y_top_mm},
                 {"z0_mm", L.z0_mm}}},
+              {"extent", extent_json(slicer, stats)},
               {"materials", materials},
               {"cells", cells},
               {"total",
