@@ -152,6 +152,9 @@ void run(const SliceOptions& so) {
                d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
                d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
   }
+  // Warnings go to standard error even with -q: they are about the result, not progress.
+  for (const std::string& w : colour_warnings(scene, job.background_rgba))
+    fmt::print(stderr, "trivox: warning: {}\n", w);
   TerminalProgress progress(so.quiet);
   // A job that fails on its input part way leaves no partial stack behind; one that fails
   // to write (a full disk) or is stopped keeps what it completed for --resume.
@@ -183,10 +186,11 @@ void run(const SliceOptions& so) {
   if (!st.printed.empty()) {
     // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
     const Vec3 printed = printed_box_mm(st.printed, L).size(), model = scene.bounds().size();
-    fmt::print("printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
-               printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
-               st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1,
-               st.layers_kept > 0 ? ", of the layers this run sliced" : "", model.x, model.y, model.z);
+    fmt::print(
+        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
+        printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
+        st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1,
+        st.layers_kept > 0 ? ", of the layers this run sliced" : "", model.x, model.y, model.z);
   }
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
   if (job.shard_count > 1)

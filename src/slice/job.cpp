@@ -352,12 +352,14 @@ nlohmann::json extent_json(const Slicer& slicer, const JobStats& stats) {
   const auto box_json = [](const Box3& b) {
     if (b.empty()) return nlohmann::json(nullptr);
     const Vec3 size = b.size();
-    return nlohmann::json{{"size_mm", {size.x, size.y, size.z}}, {"lo_mm", {b.lo.x, b.lo.y, b.lo.z}},
+    return nlohmann::json{{"size_mm", {size.x, size.y, size.z}},
+                          {"lo_mm", {b.lo.x, b.lo.y, b.lo.z}},
                           {"hi_mm", {b.hi.x, b.hi.y, b.hi.z}}};
   };
   nlohmann::json printed = box_json(printed_box_mm(stats.printed, stats.layout));
   if (!stats.printed.empty())
-    printed["voxels"] = {stats.printed.col_hi - stats.printed.col_lo + 1, stats.printed.row_hi - stats.printed.row_lo + 1,
+    printed["voxels"] = {stats.printed.col_hi - stats.printed.col_lo + 1,
+                         stats.printed.row_hi - stats.printed.row_lo + 1,
                          stats.printed.layer_hi - stats.printed.layer_lo + 1};
   return {{"printed", printed}, {"model", box_json(slicer.scene().bounds())}};
 }

@@ -120,8 +120,9 @@ std::vector<DocBlock> json_blocks(const std::string& doc) {
     const std::size_t end = doc.find(fence, eol + 1);
     if (end == std::string::npos) break;
     if (lang == "json" || lang == "jsonc")
-      blocks.push_back({doc.substr(eol + 1, end - eol - 1),
-                        1 + static_cast<int>(std::count(doc.begin(), doc.begin() + static_cast<std::ptrdiff_t>(at), '\n'))});
+      blocks.push_back(
+          {doc.substr(eol + 1, end - eol - 1),
+           1 + static_cast<int>(std::count(doc.begin(), doc.begin() + static_cast<std::ptrdiff_t>(at), '\n'))});
     at = doc.find(fence, end + fence.size());
   }
   return blocks;

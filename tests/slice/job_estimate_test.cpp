@@ -164,8 +164,7 @@ TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
     const std::uint64_t allowance = 140u * 2u;  // the manifest's, for two files
     const std::uint64_t stats_bytes = fs::file_size(p.output_dir / "stats.json");
     EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes), 0.05 * stats_bytes);
-    const std::uint64_t real =
-        stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance + e.stats_bytes;
+    const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance + e.stats_bytes;
     EXPECT_LE(rest, fs::file_size(p.output_dir / "materials.csv") + allowance + 2000u);
     if (format == "vdb") {
       EXPECT_GE(e.output_bytes, real / 2);
