@@ -2,12 +2,15 @@
 // estimates what it will cost (docs/CLI.md#validate).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
 #include "commands.h"
 #include "job_options.h"
+#include "trivox/error.h"
+#include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job_estimate.h"
 
@@ -36,6 +39,40 @@ void run_validate(const ValidateOptions& v) {
   }
   if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
   if (!o.no_checks) check_job_fits(e, job, memory_limit_of(o));
+  // The fraction rules, proved cell by cell over each cell's domain (or not).
+  const std::vector<CellFractionCheck> checks = check_scene_fractions(scene);
+  int proved = 0, unproved = 0;
+  for (const CellFractionCheck& c : checks) {
+    const Cell& cell = scene.cells[static_cast<std::size_t>(c.cell)];
+    const FractionCheck& f = c.check;
+    if (f.outcome == FractionCheckOutcome::kProved) {
+      ++proved;
+    } else if (f.outcome == FractionCheckOutcome::kUnproved) {
+      ++unproved;
+      fmt::print(
+          "  fraction sums: cell '{}' ({}/material): cannot prove: {} in u [{:.6g}, {:.6g}] v [{:.6g}, {:.6g}] "
+          "w [{:.6g}, {:.6g}]\n",
+          cell.name, cell.pointer, f.reason, f.box.lo.x, f.box.hi.x, f.box.lo.y, f.box.hi.y, f.box.lo.z, f.box.hi.z);
+    } else {
+      throw InputError(
+          scene.source, 0, cell.pointer + "/material",
+          fmt::format("cell '{}': {} at (u,v,w) = ({:.6g}, {:.6g}, {:.6g}), (x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm: "
+                      "slicing stops with an error at the first voxel there; correct the material, or set "
+                      "\"fraction_sums\" to \"normalise\" to scale such sums down",
+                      cell.name, f.rule, f.uvw.x, f.uvw.y, f.uvw.z, f.xyz.x, f.xyz.y, f.xyz.z));
+    }
+  }
+  fmt::print("  fraction sums: {} of {} cells proved within the scene's policy ({})\n", proved, checks.size(),
+             scene.fraction_policy.policy == SumPolicy::error
+                 ? fmt::format("\"error\", tolerance {}", scene.fraction_policy.tolerance)
+                 : std::string("\"normalise\": only finite values to prove"));
+  if (unproved > 0) {
+    fmt::print(
+        "cannot prove: the fraction sums of {} cell{} (above); the job can run, but stops at the first voxel whose "
+        "fractions break the rule\n",
+        unproved, unproved == 1 ? "" : "s");
+    return;
+  }
   fmt::print("ok: the job can run\n");
 }
 

@@ -30,6 +30,34 @@ void MaterialFunction::bounds(const ParamBox&, std::span<float> lo, std::span<fl
   }
 }
 
+FractionEnclosure FractionEnclosure::unknown(int num_materials) {
+  FractionEnclosure e;
+  e.fractions.assign(static_cast<std::size_t>(num_materials), Interval::everything());
+  e.sum = Interval::everything();
+  e.finite = false;
+  return e;
+}
+
+FractionEnclosure MaterialFunction::enclose(const ParamBox& box, const Box3&) const {
+  const auto m = static_cast<std::size_t>(num_materials_);
+  std::vector<float> lo(m), hi(m);
+  bounds(box, lo, hi);
+  FractionEnclosure e;
+  e.finite = true;
+  e.sum = {0.0, 0.0};
+  for (std::size_t j = 0; j < m; ++j) {
+    e.fractions.push_back({lo[j], hi[j]});
+    e.finite = e.finite && std::isfinite(lo[j]) && std::isfinite(hi[j]);
+    e.sum.lo += lo[j];
+    e.sum.hi += hi[j];
+  }
+  // The sum of m doubles rounded outwards by a relative margin far above its error.
+  e.sum.lo -= std::abs(e.sum.lo) * 1e-12;
+  e.sum.hi += std::abs(e.sum.hi) * 1e-12;
+  if (!e.finite) e.sum = Interval::everything();
+  return e;
+}
+
 void FractionPolicy::validate() const {
   if (!std::isfinite(tolerance) || tolerance < 0.0 || tolerance >= 1.0)
     throw Error(fmt::format("fraction tolerance {} is not a finite value in [0, 1)", tolerance));

@@ -122,9 +122,47 @@ TEST(CliFirstHour, NearlyEqualColoursAreWarnedAbout) {
   EXPECT_EQ(slice.exit_code, 0) << slice.err;
   EXPECT_NE(slice.err.find("trivox: warning: materials 'VeroWhite' and 'Agilus30White'"), std::string::npos)
       << slice.err;
-  const CliResult plain = run_cli("validate " + shell_quote(examples_dir() / "scenes" / "box_gradient.json") +
-                                  " --samples 0");
+  const CliResult plain =
+      run_cli("validate " + shell_quote(examples_dir() / "scenes" / "box_gradient.json") + " --samples 0");
   EXPECT_EQ(plain.out.find("warning"), std::string::npos) << plain.out;
+}
+
+// A scene whose sum exceeds 1 only in a thin band: validate finds a point in it, names the
+// cell, the parameters and the position, and fails, where it used to say "ok".
+std::string bar_scene(const std::string& a, const std::string& b) {
+  return R"({ "units": "mm", "printer": "j750-paper", "materials": ["VeroCyan", "VeroMagenta"],
+  "cells": [ { "name": "bar", "geometry": { "orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+      "points": [[0, 0, 0], [40, 0, 0], [0, 10, 0], [40, 10, 0], [0, 0, 5], [40, 0, 5], [0, 10, 5], [40, 10, 5]] },
+    "material": { "kind": "expression", "fractions": { "VeroCyan": ")" +
+         a + R"(", "VeroMagenta": ")" + b + R"(" } } } ] })";
+}
+
+TEST(CliFirstHour, ValidateProvesTheFractionSumsOrSaysItCannot) {
+  ScratchDir dir;
+  const fs::path band = dir.path() / "band.json";
+  write_text(band, bar_scene("u + (abs(w - 0.37) < 0.002 ? 0.5 : 0)", "1 - u"));
+  const CliResult broken = run_cli("validate " + shell_quote(band) + " --samples 0");
+  EXPECT_EQ(broken.exit_code, 3) << broken.out << broken.err;
+  for (const char* part : {"/cells/0/material", "cell 'bar'", "the fractions sum to 1.5", "(u,v,w) = (", "(x,y,z) = (",
+                           " mm", "normalise"})
+    EXPECT_NE(broken.err.find(part), std::string::npos) << part << " in " << broken.err;
+  EXPECT_EQ(broken.out.find("ok:"), std::string::npos) << broken.out;
+
+  const fs::path trig = dir.path() / "trig.json";
+  write_text(trig, bar_scene("sin(x)^2", "cos(x)^2"));
+  const CliResult unproved = run_cli("validate " + shell_quote(trig) + " --samples 0");
+  EXPECT_EQ(unproved.exit_code, 0) << unproved.err;
+  EXPECT_NE(unproved.out.find("cell 'bar' (/cells/0/material): cannot prove: the sum may reach"), std::string::npos)
+      << unproved.out;
+  EXPECT_NE(unproved.out.find("\ncannot prove: the fraction sums of 1 cell"), std::string::npos) << unproved.out;
+  EXPECT_EQ(unproved.out.find("ok:"), std::string::npos) << unproved.out;
+
+  const fs::path fine = dir.path() / "fine.json";
+  write_text(fine, bar_scene("1 - u", "u"));
+  const CliResult ok = run_cli("validate " + shell_quote(fine) + " --samples 0");
+  EXPECT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("fraction sums: 1 of 1 cells proved"), std::string::npos) << ok.out;
+  EXPECT_NE(ok.out.find("\nok: the job can run"), std::string::npos) << ok.out;
 }
 
 }  // namespace

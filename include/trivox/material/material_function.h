@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "trivox/material/fraction_enclosure.h"
 #include "trivox/math.h"
 
 namespace trivox {
@@ -74,6 +75,15 @@ class MaterialFunction {
   // p in `box` and every material j, lo[j] <= M_j(p) <= hi[j]. lo and hi hold m values each.
   // A kind that cannot bound itself reports [-inf, +inf]; this default does so.
   virtual void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const;
+
+  // An enclosure of the fractions and of their sum over a box of the cell's parameters,
+  // for the samples whose positions lie in `xyz` (mm; a box that holds the cell's image of
+  // `box`): sound (every value evaluate_row computes there, before its rounding to float,
+  // lies inside), possibly loose. fraction_check.h proves a scene's fraction rules with it.
+  // This default derives it from bounds() and sums the fraction intervals; kinds that know
+  // more (a constant exactly, spline fields by their coefficients, expressions by interval
+  // arithmetic with the mean-value form) override it.
+  virtual FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const;
 
   // One sample: a convenience for tests and tools, not for the slicing loop.
   void evaluate(Vec3 uvw, Vec3 xyz, std::span<float> fractions) const {
