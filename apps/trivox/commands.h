@@ -47,8 +47,8 @@ void add_verify_command(CLI::App& app);
 void add_init_command(CLI::App& app);
 
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 8> kCommands = {
-    &add_init_command, &add_slice_command, &add_validate_command, &add_merge_command,
-    &add_verify_command, &add_info_command, &add_probe_command,   &add_build_command};
+inline constexpr std::array<AddCommand, 8> kCommands = {&add_init_command,  &add_slice_command,  &add_validate_command,
+                                                        &add_merge_command, &add_verify_command, &add_info_command,
+                                                        &add_probe_command, &add_build_command};
 
 }  // namespace trivox::cli

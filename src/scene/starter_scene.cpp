@@ -35,8 +35,8 @@ std::string starter_scene_text(const StarterSceneParams& params) {
   for (const std::string& given : params.materials) {
     const auto m = find_library_material(given);
     if (!m)
-      throw Error(fmt::format("'{}' is not a material of the library; known: {}", given,
-                              fmt::join(library_names(), ", ")));
+      throw Error(
+          fmt::format("'{}' is not a material of the library; known: {}", given, fmt::join(library_names(), ", ")));
     names.emplace_back(m->name);
   }
   if (names[0] == names[1]) throw Error(fmt::format("the two materials are both {}", names[0]));
@@ -76,8 +76,9 @@ std::string starter_scene_text(const StarterSceneParams& params) {
                       quoted(fmt::format("none of the box at x = 0, all at x = {} mm (u = 1)", x)));
   text += "  ],\n";
   text += "  \"fraction_sums\": { \"policy\": \"error\", \"tolerance\": 0.0001 },\n";
-  text += "  \"dithering\": { \"method\": \"floyd-steinberg\", \"serpentine\": true, \"vary_by_layer\": true, "
-          "\"skin_voxels\": 0 },\n";
+  text +=
+      "  \"dithering\": { \"method\": \"floyd-steinberg\", \"serpentine\": true, \"vary_by_layer\": true, "
+      "\"skin_voxels\": 0 },\n";
   text += "  \"cells\": [\n";
   text += "    {\n";
   text += "      \"name\": \"box\",\n";
