@@ -16,6 +16,7 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "trivox/material/material_function.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
@@ -88,11 +89,12 @@ std::uint64_t bytes_already_written(const JobParams& job) {
   return bytes;
 }
 
-// A job that fails on its input (a fraction sum above 1 met in layer 200) must not leave a
-// half-written stack that looks like a result. The folder is put back as it was found when
-// it was absent or empty; a folder that already held files is left alone, since they are
-// not this job's to delete. Write errors keep the completed layers: the manifest then says
-// the job failed, and --resume finishes it once there is room.
+// A job that fails for a reason a resume cannot mend must not leave a half-written stack
+// that looks like a result. The folder is put back as it was found when it was absent or
+// empty; a folder that already held files is left alone, since they are not this job's to
+// delete. Write errors and a fraction sum that breaks the rule keep the completed layers:
+// the manifest then says the job failed, and --resume finishes it once there is room, or
+// after a correction of the scene that cannot change them.
 class OutputRollback {
  public:
   explicit OutputRollback(std::filesystem::path dir) : dir_(std::move(dir)) {
@@ -164,6 +166,15 @@ void run(const SliceOptions& so) {
     st = run_slice_job(slicer, job, &progress);
   } catch (const IoError&) {
     rollback.commit();
+    throw;
+  } catch (const FractionError& e) {
+    rollback.commit();
+    std::fflush(stdout);
+    fmt::print(stderr,
+               "trivox: the job stopped at once; {} is marked failed and keeps the layers that were complete; correct "
+               "the scene and run the same command with --resume: it keeps them if the correction cannot change them "
+               "(and says why not otherwise)\n",
+               (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string());
     throw;
   }
   rollback.commit();

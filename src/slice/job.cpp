@@ -15,6 +15,7 @@
 #include <tbb/task_arena.h>
 
 #include "output/stack_writers.h"
+#include "slice/job_resume.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -119,6 +120,7 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
   m.total_layers = range.total();
   m.shard_index = params.shard_index;
   m.shard_count = params.shard_count;
+  m.scene_parts = detail::scene_parts(scene, L, range.first, range.count);
   return m;
 }
 
@@ -154,13 +156,16 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   JobManifest manifest = job_manifest(slicer, params);
   if (params.resume && std::filesystem::exists(manifest_path, ec)) {
     const JobManifest previous = read_manifest(manifest_path);
-    const std::vector<std::string> diffs = manifest_differences(previous, manifest);
+    std::vector<ManifestFile> intact = intact_files(params.output_dir, previous);
+    // A scene corrected since (after a job stopped at a bad sum) is fine if the correction
+    // cannot change the layers kept (manifest.h).
+    const std::vector<std::string> diffs = resume_differences(previous, manifest, detail::layers_of(intact));
     if (!diffs.empty())
       throw Error(
           fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
                       manifest_path.string(), fmt::join(diffs, "; ")));
     remove_stale_temporaries(params.output_dir);
-    manifest.files = intact_files(params.output_dir, previous);
+    manifest.files = std::move(intact);
   }
   std::vector<char> kept(static_cast<std::size_t>(total_files), 0);
   for (const ManifestFile& f : manifest.files) kept[static_cast<std::size_t>(f.layer - 1)] = 1;  // layers >= 1 only
@@ -246,6 +251,8 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
     if (progress) progress->on_layer_done(++done, static_cast<int>(pending.size()));
   };
   auto stop_requested = [&] { return params.stop != nullptr && params.stop->load(); };
+  // Set by the first layer that fails (a bad fraction sum): the other workers start no new layer.
+  std::atomic<bool> failed{false};
   // Records what was completed so that --resume redoes only the rest. The manifest may be
   // unwritable too (a full disk); the previous one then stands, which is still consistent.
   auto mark_failed = [&](const std::exception& e) {
@@ -273,8 +280,10 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
       if (stop_requested()) return;
       if (t >= pending.size()) {
         const int index = refeed[t - pending.size()];
-        const LabelImage labels = index < range.count ? slicer.slice_layer(range.first + index).labels
-                                                      : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
+        std::optional<LayerResult> r;
+        if (index < range.count && !(r = detail::slice_layer_unless_failed(slicer, range.first + index, failed)))
+          return;
+        const LabelImage labels = r ? std::move(r->labels) : LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
         for (const auto& w : writers)
           if (w->needs_whole_stack()) w->write_layer(index, labels);
         return;
@@ -282,7 +291,9 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
       const int index = pending[t];
       std::vector<std::string> written;
       if (index < range.count) {
-        LayerResult r = slicer.slice_layer(range.first + index);
+        std::optional<LayerResult> sliced = detail::slice_layer_unless_failed(slicer, range.first + index, failed);
+        if (!sliced) return;
+        LayerResult& r = *sliced;
         for (const auto& w : writers) {
           auto files = w->write_layer(index, r.labels);
           written.insert(written.end(), files.begin(), files.end());

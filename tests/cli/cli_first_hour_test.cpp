@@ -165,5 +165,31 @@ TEST(CliFirstHour, ValidateProvesTheFractionSumsOrSaysItCannot) {
   EXPECT_NE(ok.out.find("\nok: the job can run"), std::string::npos) << ok.out;
 }
 
+// Slicing the same scene meets the bad band: it stops at once, says where (cell, layer,
+// position, parameters) and how to go on; with the policy corrected to "normalise" the same
+// command with --resume keeps the completed layers and finishes.
+TEST(CliFirstHour, SliceStopsAtABadSumAndResumesAfterTheCorrection) {
+  ScratchDir dir;
+  const fs::path scene = dir.path() / "band.json";
+  write_text(scene, bar_scene("u + (abs(w - 0.37) < 0.002 ? 0.5 : 0)", "1 - u"));
+  const fs::path out = dir.path() / "out";
+  const std::string args = "slice " + shell_quote(scene) + " -o " + shell_quote(out) + " -q";
+  const CliResult stopped = run_cli(args);
+  EXPECT_EQ(stopped.exit_code, 3) << stopped.err;
+  for (const char* part : {"/cells/0/material: cell 'bar': layer ", " (z = ", "the fractions sum to 1.5", "(u,v,w) = (",
+                           "(x,y,z) = (", " mm", "marked failed", "--resume"})
+    EXPECT_NE(stopped.err.find(part), std::string::npos) << part << " in " << stopped.err;
+  EXPECT_NE(read_text(out / "manifest.json").find("\"failed\""), std::string::npos);
+  EXPECT_EQ(run_cli("verify " + shell_quote(out)).exit_code, 5);
+
+  nlohmann::json j = nlohmann::json::parse(read_text(scene));
+  j["fraction_sums"] = {{"policy", "normalise"}};
+  write_text(scene, j.dump(2));
+  const CliResult resumed = run_cli(args + " --resume");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.err << resumed.out;
+  EXPECT_NE(resumed.out.find("layers were already complete"), std::string::npos) << resumed.out;
+  EXPECT_EQ(run_cli("verify " + shell_quote(out)).exit_code, 0);
+}
+
 }  // namespace
 }  // namespace trivox::test
