@@ -13,6 +13,7 @@
 
 #include "support/test_support.h"
 #include "trivox/error.h"
+#include "trivox/scene/construction.h"
 #include "trivox/scene/scene.h"
 
 namespace trivox {
@@ -141,6 +142,22 @@ std::optional<json> block_json(const std::string& text, bool* members) {
   } catch (const json::exception&) {
   }
   return std::nullopt;
+}
+
+// Every construction file of examples/constructions builds a volume that does not fold, and
+// the README names it.
+TEST(SceneExamples, EveryConstructionFileBuilds) {
+  const std::string readme = read_text(kExamples.parent_path() / "README.md");
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(kExamples.parent_path() / "constructions")) {
+    if (e.path().extension() != ".json") continue;
+    SCOPED_TRACE(e.path().string());
+    const Constructed c = read_construction(e.path());
+    EXPECT_FALSE(c.report.folds()) << c.report.describe();
+    EXPECT_NE(readme.find("`constructions/" + e.path().filename().string() + "`"), std::string::npos);
+    ++files;
+  }
+  EXPECT_GE(files, 7);
 }
 
 // examples/README.md's table has a row for every bundled scene.
