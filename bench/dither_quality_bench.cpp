@@ -291,8 +291,10 @@ int main() {
           row_expected += expected[static_cast<std::size_t>(i) * kOdd + static_cast<std::size_t>(j)];
           col_expected += expected[static_cast<std::size_t>(j) * kOdd + static_cast<std::size_t>(i)];
         }
-        row_excess = std::max(row_excess, (row_same[static_cast<std::size_t>(i)] / pairs - row_expected) / kOdd);
-        col_excess = std::max(col_excess, (col_same[static_cast<std::size_t>(i)] / pairs - col_expected) / kOdd);
+        row_excess = std::max(
+            row_excess, (static_cast<double>(row_same[static_cast<std::size_t>(i)]) / pairs - row_expected) / kOdd);
+        col_excess = std::max(
+            col_excess, (static_cast<double>(col_same[static_cast<std::size_t>(i)]) / pairs - col_expected) / kOdd);
       }
       fmt::print("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {:.3f} |\n", full.name,
                  trivox::dither_method_name(p), static_cast<double>(same) / (pairs * kOdd * kOdd),

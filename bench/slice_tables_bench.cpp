@@ -91,19 +91,7 @@ int main(int argc, char** argv) {
       const auto write_start = std::chrono::steady_clock::now();
       writer->write_layer(i, r.labels);
       write_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - write_start).count();
-      sum.seconds += r.stats.seconds;
-      sum.seconds_inverse += r.stats.seconds_inverse;
-      sum.seconds_material += r.stats.seconds_material;
-      sum.seconds_dither += r.stats.seconds_dither;
-      sum.pixels_inside += r.stats.pixels_inside;
-      sum.pixels_total += r.stats.pixels_total;
-      sum.candidates += r.stats.candidates;
-      sum.global_calls += r.stats.global_calls;
-      sum.newton_evals += r.stats.newton_evals;
-      sum.guesses += r.stats.guesses;
-      sum.guess_misses += r.stats.guess_misses;
-      sum.jacobian_steps += r.stats.jacobian_steps;
-      sum.slow_path_pixels += r.stats.slow_path_pixels;
+      sum += r.stats;
     }
     std::filesystem::remove_all(out);
     sum.seconds += write_seconds;

@@ -131,8 +131,9 @@ void run(const SliceOptions& so) {
   job.stop = &g_stop;
   job.manifest_interval_seconds = so.manifest_interval_s;
 
-  const Scene scene = read_scene(o.scene);
-  const SliceParams params = slice_params_of(o, scene);
+  const Scene scene = read_scene(o.scene, &g_stop);
+  SliceParams params = slice_params_of(o, scene);
+  params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
   if (!o.no_checks) {
@@ -185,11 +186,9 @@ void run(const SliceOptions& so) {
         fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
                     st.layers.size(), manifest));
 
-  std::int64_t inside = 0, global = 0;
-  for (const LayerStats& s : st.layers) {
-    inside += s.pixels_inside;
-    global += s.global_calls;
-  }
+  LayerStats total;
+  for (const LayerStats& s : st.layers) total += s;
+  const std::int64_t inside = total.pixels_inside, global = total.global_calls;
   fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px, L.height_px,
              o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,

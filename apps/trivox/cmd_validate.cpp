@@ -63,7 +63,7 @@ void run_validate(const ValidateOptions& v) {
     }
   }
   fmt::print("  fraction sums: {} of {} cells proved within the scene's policy ({})\n", proved, checks.size(),
-             scene.fraction_policy.policy == SumPolicy::error
+             scene.fraction_policy.policy == SumPolicy::kError
                  ? fmt::format("\"error\", tolerance {}", scene.fraction_policy.tolerance)
                  : std::string("\"normalise\": only finite values to prove"));
   if (unproved > 0) {

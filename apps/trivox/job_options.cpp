@@ -120,6 +120,8 @@ SliceParams slice_params_of(const JobOptions& o, const Scene& scene) {
   }
   if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
   params.dither = dither;
+  // The outline meshes are shared out within the memory limit before they are built.
+  if (!o.no_checks) params.memory_limit_bytes = memory_limit_of(o).value_or(0);
   return params;
 }
 

@@ -60,6 +60,8 @@ int main(int argc, char** argv) {
     return code;
   } catch (const InterruptedError& e) {
     return fail(kExitInterrupted, "interrupted", e.what());
+  } catch (const trivox::CancelledError& e) {  // Ctrl-C before the job's folder was touched
+    return fail(kExitInterrupted, "interrupted", fmt::format("{}; nothing was written", e.what()));
   } catch (const CorruptOutputError& e) {
     return fail(kExitCorrupt, "verify failed", e.what());
   } catch (const trivox::IoError& e) {

@@ -1,11 +1,13 @@
 // Errors in layers (see docs/ARCHITECTURE.md):
-//  * bugs are caught by assertions;
+//  * bugs (a broken invariant inside the library) are caught by the invariant checks of
+//    src/check.h (TRIVOX_CHECK_EQ and its kin, which print both operands and abort), compiled
+//    into the sanitizer and Debug builds;
 //  * bad input (a model file, a scene, a parameter) throws a typed exception derived from
 //    trivox::Error that names where the problem is and which rule it breaks;
 //  * expected numerical outcomes (a point outside a volume, a Newton iteration that does not
 //    converge) are status values, never exceptions.
-// The library never prints and never exits; only the command-line program turns errors into
-// messages and exit codes.
+// The library never prints and never exits (but for a failed invariant check, a bug); only
+// the command-line program turns errors into messages and exit codes.
 #pragma once
 
 #include <stdexcept>
@@ -52,6 +54,15 @@ class UnsupportedError : public InputError {
 
 // A file or folder that cannot be read or written.
 class IoError : public Error {
+ public:
+  using Error::Error;
+};
+
+// A long computation saw its caller's stop flag raised (a `stop` member of its parameters,
+// set from a signal handler, a progress callback or another thread) and gave up, leaving
+// nothing half-written. Not a problem with the input: the same call without the stop
+// succeeds.
+class CancelledError : public Error {
  public:
   using Error::Error;
 };

@@ -1,7 +1,27 @@
 // Limits shared by several layers of the library.
+//
+// Every count or size that comes from input (knots, control points, pixels, layers, texture
+// dimensions, mesh sizes) is checked against these with product_within() before anything
+// is allocated for it, so that no product overflows and no input makes the library ask for
+// more memory than the limit allows.
 #pragma once
 
+#include <cstdint>
+#include <optional>
+
 namespace trivox {
+
+// Control points of one spline, all directions together. 1e8 homogeneous points are 3.2 GB:
+// the largest spline a reader or a constructor accepts.
+inline constexpr std::int64_t kMaxControlPoints = 100'000'000;
+
+// a * b when both are >= 0 and the product is at most `limit`; nullopt when it exceeds the
+// limit (or would overflow 64 bits, which a limit below 2^63 implies).
+constexpr std::optional<std::int64_t> product_within(std::int64_t a, std::int64_t b, std::int64_t limit) noexcept {
+  if (a < 0 || b < 0 || limit < 0) return std::nullopt;
+  if (a != 0 && b > limit / a) return std::nullopt;
+  return a * b;
+}
 
 // Materials in one scene (besides void). Labels of dithered layers are bytes with 0 for void,
 // and error diffusion keeps one error term per material and pixel, so the bound stays small.

@@ -221,6 +221,7 @@ UntangleResult untangle(const TensorSpline& volume, const UntangleParams& params
   const double diag = s.control_box().diagonal();
   int it = 0;
   for (; it < params.iterations && f > 0.0; ++it) {
+    if (params.stop != nullptr && params.stop->load()) throw CancelledError("stopped while untangling a volume");
     // Two-loop recursion for dir = -H g.
     dir = g;
     std::vector<double> alpha(ss.size());

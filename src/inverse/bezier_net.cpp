@@ -1,6 +1,6 @@
 #include "bezier_net.h"
 
-#include "spline/volume_kernels.h"  // H, V4 and load: homogeneous points four lanes at a time
+#include "trivox/spline/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 #include <algorithm>

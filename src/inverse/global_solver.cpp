@@ -244,4 +244,63 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
   return result;
 }
 
+namespace {
+
+// The largest dot(direction, V) over the nets' images, to within `tolerance`, from above.
+double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 direction, double tolerance, int max_nets) {
+  struct Entry {
+    double upper;  // max_along(direction) of the net's control points
+    std::size_t order;
+    detail::BezierNet net;
+  };
+  // The net with the largest bound first; equal bounds in the order they were made, so the
+  // search (and the box it gives) does not depend on the heap's ties.
+  auto later = [](const Entry& a, const Entry& b) {
+    return a.upper < b.upper || (a.upper == b.upper && a.order > b.order);
+  };
+  std::vector<Entry> heap;
+  double attained = -HUGE_VAL;  // the largest value at a point of the image seen so far
+  std::size_t made = 0;
+  auto push = [&](detail::BezierNet net) {
+    // A Bezier net's corner control points lie on the volume: exact values of the image.
+    for (int k : {0, net.order[2] - 1})
+      for (int j : {0, net.order[1] - 1})
+        for (int i : {0, net.order[0] - 1})
+          attained = std::max(
+              attained,
+              dot(direction, net.euclidean(static_cast<std::size_t>(i + net.order[0] * (j + net.order[1] * k)))));
+    const double upper = net.max_along(direction);
+    heap.push_back({upper, made++, std::move(net)});
+    std::push_heap(heap.begin(), heap.end(), later);
+  };
+  for (const detail::BezierNet& net : pieces) push(net);
+  for (int halvings = 0; !heap.empty(); ++halvings) {
+    std::pop_heap(heap.begin(), heap.end(), later);
+    Entry top = std::move(heap.back());
+    heap.pop_back();
+    // Every net left is bounded by top.upper; the image reaches `attained`.
+    if (top.upper - attained <= tolerance || halvings >= max_nets) return top.upper;
+    const std::array<double, 3> extent = top.net.extents();
+    const int d = static_cast<int>(std::max_element(extent.begin(), extent.end()) - extent.begin());
+    auto halves = top.net.halve(d);
+    push(std::move(halves[0]));
+    push(std::move(halves[1]));
+  }
+  return attained;
+}
+
+}  // namespace
+
+Box3 GlobalSolver::image_bounds(double tolerance_model, int max_nets) const {
+  Box3 box;
+  if (pieces_->nets.empty()) return box;
+  for (int a = 0; a < 3; ++a) {
+    Vec3 e{};
+    e[a] = 1.0;
+    box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_nets);
+    box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_nets);
+  }
+  return box;
+}
+
 }  // namespace trivox

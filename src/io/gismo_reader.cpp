@@ -10,6 +10,7 @@
 // gsTensorNurbsBasis, gsIO/gsBase64.h). `degree` is the degree (order - 1); child bases of a
 // tensor basis count in document order (their `index` attributes are not trusted); NURBS
 // weights sit beside the inner basis, before or after it; coefs are Euclidean points.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <iterator>
@@ -27,6 +28,7 @@
 #include "io/text_number.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
+#include "trivox/limits.h"
 
 namespace trivox {
 
@@ -35,8 +37,7 @@ namespace {
 using io_detail::only_child;
 using io_detail::XmlContext;
 
-constexpr std::int64_t kMaxControlPoints = 100'000'000;  // per patch, as in the IRIT reader
-constexpr std::int64_t kMaxRangePatches = 1'000'000;     // patches one id_range may list
+constexpr std::int64_t kMaxRangePatches = 1'000'000;  // patches one id_range may list
 constexpr std::int64_t kIntMin = std::numeric_limits<int>::min();
 constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();
 
@@ -72,8 +73,10 @@ class GismoReader {
   std::vector<std::pair<pugi::xml_node, pugi::xml_node>> select_patches(pugi::xml_node root) const;
   std::vector<std::int64_t> listed_ids(pugi::xml_node patches) const;
   TensorSpline read_geometry(pugi::xml_node geometry) const;
-  std::vector<KnotVector> read_bspline_basis(pugi::xml_node basis, int dim) const;
-  KnotVector read_knot_vector(pugi::xml_node kv) const;
+  // The knot vectors of a basis; `functions` counts the basis functions of those read so far
+  // and none may take it past `most` (checked before a knot vector is built).
+  std::vector<KnotVector> read_bspline_basis(pugi::xml_node basis, int dim, std::int64_t most) const;
+  KnotVector read_knot_vector(pugi::xml_node kv, std::int64_t& functions, std::int64_t most) const;
   std::int64_t int_attribute(pugi::xml_node node, const char* name, std::int64_t lo, std::int64_t hi) const;
 
   std::string_view text_;
@@ -196,21 +199,24 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
     ctx_.fail(basis, fmt::format("a {} geometry needs a {} basis, found type '{}'", type,
                                  gt->rational ? "NURBS (TensorNurbsBasis<d>)" : "B-spline (TensorBSplineBasis<d>)",
                                  basis_type));
+  // The coefficients first: a basis has at most one function per number they hold, so a
+  // knot vector given by its size alone (mode="uniform") is checked against them before it
+  // is built.
+  const pugi::xml_node coefs = only_child(ctx_, geometry, "coefs");
+  std::vector<double> values = ctx_.read_values(coefs);
+  const std::int64_t most = std::min<std::int64_t>(kMaxControlPoints, static_cast<std::int64_t>(values.size()));
   std::vector<KnotVector> knots;
   std::vector<double> weights;
   pugi::xml_node weights_node;
   if (gt->rational) {
-    knots = read_bspline_basis(only_child(ctx_, basis, "Basis"), dim);
+    knots = read_bspline_basis(only_child(ctx_, basis, "Basis"), dim, most);
     weights_node = only_child(ctx_, basis, "weights");
     weights = ctx_.read_values(weights_node);
   } else {
-    knots = read_bspline_basis(basis, dim);
+    knots = read_bspline_basis(basis, dim, most);
   }
-
   std::int64_t total = 1;
-  for (const KnotVector& kv : knots) total *= kv.num_ctrl();
-  if (total > kMaxControlPoints)
-    ctx_.fail(basis, fmt::format("the basis has {} functions, above the limit of {}", total, kMaxControlPoints));
+  for (const KnotVector& kv : knots) total *= kv.num_ctrl();  // <= most, checked as they were read
   if (gt->rational) {
     if (static_cast<std::int64_t>(weights.size()) != total)
       ctx_.fail(weights_node, fmt::format("{} weights for a basis of {} functions", weights.size(), total));
@@ -219,8 +225,6 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
         ctx_.fail(weights_node, fmt::format("weight {} is {}; weights must be > 0", i, weights[i]));
   }
 
-  const pugi::xml_node coefs = only_child(ctx_, geometry, "coefs");
-  std::vector<double> values = ctx_.read_values(coefs);
   std::int64_t geo_dim = 0;
   if (coefs.attribute("geoDim")) {
     geo_dim = int_attribute(coefs, "geoDim", 1, 1000);
@@ -241,18 +245,21 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
   }
 }
 
-std::vector<KnotVector> GismoReader::read_bspline_basis(pugi::xml_node basis, int dim) const {
+std::vector<KnotVector> GismoReader::read_bspline_basis(pugi::xml_node basis, int dim, std::int64_t most) const {
   const std::string_view type = basis.attribute("type").value();
   if (!is_bspline_basis(type))
     ctx_.fail(basis,
               fmt::format("expected a B-spline basis (BSplineBasis or TensorBSplineBasis<d>), found type '{}'", type));
-  if (dim == 1) return {read_knot_vector(only_child(ctx_, basis, "KnotVector"))};
+  std::int64_t functions = 1;
+  if (dim == 1) return {read_knot_vector(only_child(ctx_, basis, "KnotVector"), functions, most)};
   std::vector<KnotVector> knots;
   for (pugi::xml_node child : basis.children("Basis")) {
     if (std::string_view(child.attribute("type").value()) != "BSplineBasis")
       ctx_.fail(child, fmt::format("a tensor basis holds BSplineBasis children, found type '{}'",
                                    child.attribute("type").value()));
-    knots.push_back(read_knot_vector(only_child(ctx_, child, "KnotVector")));
+    if (static_cast<int>(knots.size()) == dim)
+      ctx_.fail(child, fmt::format("a {}-variate tensor basis needs {} child <Basis> elements, found more", dim, dim));
+    knots.push_back(read_knot_vector(only_child(ctx_, child, "KnotVector"), functions, most));
   }
   if (static_cast<int>(knots.size()) != dim)
     ctx_.fail(basis, fmt::format("a {}-variate tensor basis needs {} child <Basis> elements (one per direction), "
@@ -261,8 +268,21 @@ std::vector<KnotVector> GismoReader::read_bspline_basis(pugi::xml_node basis, in
   return knots;
 }
 
-KnotVector GismoReader::read_knot_vector(pugi::xml_node kv) const {
+KnotVector GismoReader::read_knot_vector(pugi::xml_node kv, std::int64_t& functions, std::int64_t most) const {
   const int degree = static_cast<int>(int_attribute(kv, "degree", 0, kMaxOrder - 1));
+  // The basis so far times this vector's functions must stay within `most`.
+  auto count = [&](std::int64_t n) {
+    const auto next = product_within(functions, n, most);
+    if (!next) {
+      if (most < kMaxControlPoints)
+        ctx_.fail(kv, fmt::format("the basis has at least {} x {} functions, but <coefs> holds only {} numbers (one "
+                                  "per function and coordinate)",
+                                  functions, n, most));
+      ctx_.fail(kv, fmt::format("the basis has at least {} x {} functions, above the limit of {}", functions, n,
+                                kMaxControlPoints));
+    }
+    functions = *next;
+  };
   try {
     if (const pugi::xml_attribute mode = kv.attribute("mode")) {
       // mode="uniform" csize="n": clamped uniform knots on [0, 1] for n basis functions
@@ -270,10 +290,13 @@ KnotVector GismoReader::read_knot_vector(pugi::xml_node kv) const {
       if (std::string_view(mode.value()) != "uniform")
         ctx_.unsupported(kv,
                          fmt::format("KnotVector mode '{}' is not supported (only mode=\"uniform\")", mode.value()));
-      const int csize = static_cast<int>(int_attribute(kv, "csize", 1, kMaxControlPoints));
-      return KnotVector::clamped_uniform(degree + 1, csize);
+      const std::int64_t csize = int_attribute(kv, "csize", 1, kMaxControlPoints);
+      count(csize);
+      return KnotVector::clamped_uniform(degree + 1, static_cast<int>(csize));
     }
-    return KnotVector(degree + 1, ctx_.read_values(kv));
+    KnotVector knots(degree + 1, ctx_.read_values(kv));
+    count(knots.num_ctrl());
+    return knots;
   } catch (const ModelError& e) {
     ctx_.fail(kv, e.what());
   }

@@ -15,16 +15,19 @@
 #include <cstdint>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "io/itd_tokenizer.h"
 #include "io/text_number.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
+#include "trivox/limits.h"
 
 namespace trivox {
 
@@ -34,8 +37,7 @@ using itd::Token;
 using itd::Tokenizer;
 
 // Limits that turn corrupt or hostile headers into errors before anything is allocated.
-constexpr std::int64_t kMaxControlPoints = 100'000'000;  // per patch, all directions together
-constexpr int kMaxNesting = 1000;                        // objects (and models) inside objects
+constexpr int kMaxNesting = 1000;  // objects (and models) inside objects
 constexpr const char* kDirection[3] = {"u", "v", "w"};
 constexpr const char* kKeyword[4] = {"", "CURVE", "SURFACE", "TRIVAR"};
 
@@ -427,10 +429,14 @@ void ItdParser::read_geometry(const Token& keyword, int param_dim) {
   }
 
   std::int64_t total = 1;
-  for (std::size_t d = 0; d < dims; ++d) total *= counts[d];  // <= 1e8^3, fits in 64 bits
-  if (total > kMaxControlPoints)
-    fail(keyword.line, where,
-         fmt::format("declares {} control points, above the limit of {}", total, kMaxControlPoints));
+  for (std::size_t d = 0; d < dims; ++d) {
+    const auto next = product_within(total, counts[d], kMaxControlPoints);
+    if (!next)
+      fail(keyword.line, where,
+           fmt::format("declares {} control points, above the limit of {}",
+                       fmt::join(std::span(counts).first(dims), " x "), kMaxControlPoints));
+    total = *next;
+  }
 
   std::vector<KnotVector> knots;
   for (std::size_t d = 0; d < dims; ++d) {

@@ -32,7 +32,7 @@ Box3 positions(const TensorSpline& geometry, const ParamBox& box) {
 // The rule the policy applies to one sample, as apply_fraction_policy applies it; empty when
 // the sample passes.
 std::string broken_rule(std::span<const float> f, const FractionPolicy& policy, const std::vector<std::string>& names) {
-  const bool strict = policy.policy == SumPolicy::error;
+  const bool strict = policy.policy == SumPolicy::kError;
   double sum = 0.0;
   for (std::size_t j = 0; j < f.size(); ++j) {
     if (!std::isfinite(f[j]))
@@ -65,7 +65,7 @@ struct Assessed {
 FractionCheck check_fractions(const MaterialFunction& material, const FractionPolicy& policy,
                               const TensorSpline& geometry, const std::vector<std::string>& names,
                               const FractionCheckParams& params) {
-  const bool strict = policy.policy == SumPolicy::error;
+  const bool strict = policy.policy == SumPolicy::kError;
   const auto m = static_cast<std::size_t>(material.num_materials());
   const ParamBox domain{{geometry.lo(0), geometry.lo(1), geometry.lo(2)},
                         {geometry.hi(0), geometry.hi(1), geometry.hi(2)}};

@@ -143,7 +143,7 @@ void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& sit
                          : count == 3 ? row_untouched<3>(fractions.data(), uvw.size(), 3)
                                       : row_untouched<0>(fractions.data(), uvw.size(), count);
   if (untouched) return;
-  const bool strict = policy.policy == SumPolicy::error;
+  const bool strict = policy.policy == SumPolicy::kError;
   const double tol = policy.tolerance;
   const auto mm = static_cast<std::size_t>(m);
   for (std::size_t s = 0; s < uvw.size(); ++s) {

@@ -59,9 +59,13 @@ class LayerPreviewWriter final : public LayerWriter {
 
 }  // namespace
 
+}  // namespace trivox::detail
+
+namespace trivox {
+
 std::unique_ptr<LayerWriter> make_layer_preview_writer(const OutputContext& context,
                                                        std::vector<std::pair<int, int>> layers) {
-  return std::make_unique<LayerPreviewWriter>(context, std::move(layers));
+  return std::make_unique<detail::LayerPreviewWriter>(context, std::move(layers));
 }
 
-}  // namespace trivox::detail
+}  // namespace trivox

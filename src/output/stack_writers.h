@@ -16,12 +16,6 @@ namespace trivox::detail {
 // "preview": contact sheet and three orthogonal cuts (preview_writer.cpp).
 std::unique_ptr<LayerWriter> make_preview_writer(const OutputContext& context);
 
-// Display-colour PNGs of chosen layers at their true proportions, preview/layer_NNNNN.png
-// (layer_preview_writer.cpp). `layers` pairs a job layer index with the model layer number
-// (1-based) its file is named after.
-std::unique_ptr<LayerWriter> make_layer_preview_writer(const OutputContext& context,
-                                                       std::vector<std::pair<int, int>> layers);
-
 // "tiff": every layer as a page of tiff/stack.tif (tiff_stack_writer.cpp).
 std::unique_ptr<LayerWriter> make_tiff_stack_writer(const OutputContext& context);
 

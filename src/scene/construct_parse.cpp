@@ -7,7 +7,6 @@
 
 #include <fmt/format.h>
 
-#include "construct/construct_util.h"
 #include "scene/scene_parse.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
@@ -161,13 +160,19 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     CoonsParams p;
     p.check = check;
     std::optional<UntangleParams> untangling;
-    if (const auto u = c.find("untangle")) untangling = parse_untangle(*u);
+    if (const auto u = c.find("untangle")) {
+      untangling = parse_untangle(*u);
+      untangling->stop = ctx.stop();
+    }
     // The Coons volume, untangled when asked: only its interior control points move.
     auto make = [&](const std::array<TensorSpline, 6>& faces) {
       Constructed built = coons(faces, p);
       if (!untangling) return built;
       UntangleResult r = untangle(built.volume.spline(), *untangling);
-      return detail::finish("coons", std::move(r.spline), check);
+      Volume volume(std::move(r.spline));
+      ConstructionReport report = inspect_volume(volume, check);
+      report.constructor = "coons";
+      return Constructed{std::move(volume), std::move(report)};
     };
     if (const auto all = c.find("faces")) {
       for (int i = 0; i < 6; ++i)

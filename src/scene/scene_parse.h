@@ -4,6 +4,8 @@
 // and the JSON pointer of the offending field.
 #pragma once
 
+#include <atomic>
+
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -33,6 +35,10 @@ class SceneContext {
 
   const std::string& source() const noexcept { return source_; }
 
+  // The caller's stop flag, for the long constructions (untangling); may be null.
+  void set_stop(const std::atomic<bool>* stop) noexcept { stop_ = stop; }
+  const std::atomic<bool>* stop() const noexcept { return stop_; }
+
   void set_material_names(std::vector<std::string> names) { material_names_ = std::move(names); }
   const std::vector<std::string>& material_names() const noexcept { return material_names_; }
   int num_materials() const noexcept { return static_cast<int>(material_names_.size()); }
@@ -57,6 +63,7 @@ class SceneContext {
  private:
   std::string source_;
   std::filesystem::path base_dir_;
+  const std::atomic<bool>* stop_ = nullptr;
   std::vector<std::string> material_names_;
   std::map<std::string, Model> models_;                               // by resolved path
   std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text

@@ -231,9 +231,9 @@ FractionPolicy parse_policy(const JsonView& node) {
   if (const auto p = node.find("policy")) {
     const std::string& s = p->string();
     if (s == "error")
-      policy.policy = SumPolicy::error;
+      policy.policy = SumPolicy::kError;
     else if (s == "normalise" || s == "normalize")
-      policy.policy = SumPolicy::normalise;
+      policy.policy = SumPolicy::kNormalise;
     else
       p->fail(fmt::format("expected \"error\" or \"normalise\", got \"{}\"", s));
   }
@@ -426,7 +426,7 @@ void fingerprint(const Json& root, Scene& scene) {
 
 }  // namespace
 
-Scene parse_scene(std::string_view json_text, const std::filesystem::path& source) {
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source, const std::atomic<bool>* stop) {
   const std::string src = source.string();
   const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
@@ -449,6 +449,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   if (const auto d = top.find("dithering")) scene.dithering = parse_dithering(*d);
 
   detail::SceneContext ctx(src, source.parent_path());
+  ctx.set_stop(stop);
   std::vector<std::string> names;
   for (const MaterialDef& m : scene.materials) names.push_back(m.name);
   ctx.set_material_names(std::move(names));
@@ -464,7 +465,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   return scene;
 }
 
-Scene read_scene(const std::filesystem::path& path) {
+Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* stop) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read the scene file {}: it is a folder", path.string()));
@@ -472,7 +473,7 @@ Scene read_scene(const std::filesystem::path& path) {
   if (!in) throw IoError(fmt::format("cannot open the scene file {}", path.string()));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw IoError(fmt::format("cannot read the scene file {}", path.string()));
-  return parse_scene(text, path);
+  return parse_scene(text, path, stop);
 }
 
 }  // namespace trivox

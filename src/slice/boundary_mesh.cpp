@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "trivox/error.h"
+
 namespace trivox::detail {
 
 namespace {
@@ -53,34 +55,50 @@ double face_deviation(const Volume& v, int fixed, double at, int a, const std::v
 
 }  // namespace
 
-BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
+std::int64_t boundary_mesh_vertices(const std::array<int, 3>& n) noexcept {
+  const std::int64_t a = n[0], b = n[1], c = n[2];
+  return 2 * (a * b + b * c + c * a);
+}
+
+BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int64_t max_vertices,
+                                 const std::atomic<bool>* stop) {
   const ParamBox& dom = v.domain();
+  std::array<int, 3> n{};
   // Start from a few samples per polynomial piece and double where a face is too coarse.
   for (int d = 0; d < 3; ++d)
-    n_[static_cast<std::size_t>(d)] =
+    n[static_cast<std::size_t>(d)] =
         std::max(3, 2 * (static_cast<int>(v.spline().knots(d).interior_breaks().size()) + 1) + 1);
+  // A volume of very many pieces starts coarser, within the budget (2 samples at least).
+  while (boundary_mesh_vertices(n) > max_vertices) {
+    auto most = std::max_element(n.begin(), n.end());
+    if (*most <= 2) break;
+    *most = std::max(2, *most / 2 + 1);
+  }
   constexpr int kMaxSamples = 4096;
-  for (int round = 0; round < 12; ++round) {
+  double deviation = 0;
+  for (;;) {  // at most 12 rounds: a direction doubles from 3 to kMaxSamples in 11
+    if (stop != nullptr && stop->load()) throw CancelledError("stopped while building a cell's outline mesh");
     std::array<std::vector<double>, 3> t;
     for (int d = 0; d < 3; ++d)
-      t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+      t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n[static_cast<std::size_t>(d)]);
     std::array<bool, 3> refine{false, false, false};
+    deviation = 0;
     for (int fixed = 0; fixed < 3; ++fixed) {
       const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
       for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
-        if (face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]) >
-            tolerance_mm) {
-          refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
-        }
+        const double face =
+            face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]);
+        // NaN (a face whose points overflow) counts as too coarse.
+        if (!(face <= tolerance_mm)) refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
+        deviation = std::isnan(face) ? HUGE_VAL : std::max(deviation, face);
       }
     }
-    bool any = false;
+    std::array<int, 3> next = n;
     for (int d = 0; d < 3; ++d)
-      if (refine[static_cast<std::size_t>(d)] && n_[static_cast<std::size_t>(d)] < kMaxSamples) {
-        n_[static_cast<std::size_t>(d)] = std::min(kMaxSamples, 2 * n_[static_cast<std::size_t>(d)] - 1);
-        any = true;
-      }
-    if (!any) break;
+      if (refine[static_cast<std::size_t>(d)] && next[static_cast<std::size_t>(d)] < kMaxSamples)
+        next[static_cast<std::size_t>(d)] = std::min(kMaxSamples, 2 * next[static_cast<std::size_t>(d)] - 1);
+    if (next == n || boundary_mesh_vertices(next) > max_vertices) break;
+    n = next;
   }
 
   // Vertices are numbered in the order the triangles first reach them, and shared edges and
@@ -88,7 +106,7 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   // holds it, in a dense table of that face's grid.
   std::array<std::vector<double>, 3> t;
   for (int d = 0; d < 3; ++d)
-    t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n_[static_cast<std::size_t>(d)]);
+    t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n[static_cast<std::size_t>(d)]);
   struct FaceTable {
     int fixed, side, a, b;
     std::vector<int> id;  // per grid point of the face, index i_a + n_a * i_b; -1 = none yet
@@ -96,18 +114,19 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   std::vector<FaceTable> faces;
   for (int fixed = 0; fixed < 3; ++fixed) {
     const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
-    for (int side : {0, n_[static_cast<std::size_t>(fixed)] - 1})
+    for (int side : {0, n[static_cast<std::size_t>(fixed)] - 1})
       faces.push_back({fixed, side, a, b,
-                       std::vector<int>(static_cast<std::size_t>(n_[static_cast<std::size_t>(a)]) *
-                                            static_cast<std::size_t>(n_[static_cast<std::size_t>(b)]),
+                       std::vector<int>(static_cast<std::size_t>(n[static_cast<std::size_t>(a)]) *
+                                            static_cast<std::size_t>(n[static_cast<std::size_t>(b)]),
                                         -1)});
   }
   std::vector<std::array<int, 3>> grid_of;  // per vertex: its grid index (i, j, k)
+  std::vector<SlicedMesh::Triangle> triangles;
   auto vertex = [&](const std::array<int, 3>& ijk) {
     for (FaceTable& f : faces) {
       if (ijk[static_cast<std::size_t>(f.fixed)] != f.side) continue;
       int& id = f.id[static_cast<std::size_t>(ijk[static_cast<std::size_t>(f.a)]) +
-                     static_cast<std::size_t>(n_[static_cast<std::size_t>(f.a)]) *
+                     static_cast<std::size_t>(n[static_cast<std::size_t>(f.a)]) *
                          static_cast<std::size_t>(ijk[static_cast<std::size_t>(f.b)])];
       if (id < 0) {
         id = static_cast<int>(grid_of.size());
@@ -119,8 +138,8 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
   };
   for (std::size_t face = 0; face < faces.size(); ++face) {
     const int fixed = faces[face].fixed, side = faces[face].side, a = faces[face].a, b = faces[face].b;
-    for (int j = 1; j < n_[static_cast<std::size_t>(b)]; ++j)
-      for (int i = 1; i < n_[static_cast<std::size_t>(a)]; ++i) {
+    for (int j = 1; j < n[static_cast<std::size_t>(b)]; ++j)
+      for (int i = 1; i < n[static_cast<std::size_t>(a)]; ++i) {
         auto at = [&](int ii, int jj) {
           std::array<int, 3> ijk{};
           ijk[static_cast<std::size_t>(fixed)] = side;
@@ -129,8 +148,8 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
           return vertex(ijk);
         };
         const int q00 = at(i - 1, j - 1), q10 = at(i, j - 1), q01 = at(i - 1, j), q11 = at(i, j);
-        triangles_.push_back({q00, q10, q11});
-        triangles_.push_back({q00, q11, q01});
+        triangles.push_back({q00, q10, q11});
+        triangles.push_back({q00, q11, q01});
       }
   }
   faces.clear();
@@ -142,48 +161,9 @@ BoundaryMesh::BoundaryMesh(const Volume& v, double tolerance_mm) {
     params[k] = {t[0][static_cast<std::size_t>(ijk[0])], t[1][static_cast<std::size_t>(ijk[1])],
                  t[2][static_cast<std::size_t>(ijk[2])]};
   }
-  vertices_.resize(grid_of.size());
-  v.evaluate_many(params, vertices_);
-  for (const Vec3& p : vertices_) bounds_.expand(p);
-  // Height buckets: a layer's cut tests the triangles of its bucket. About 8000 triangles a
-  // bucket (64 to 1024 buckets), so that a fine mesh is not tested whole by every layer.
-  const int nb = static_cast<int>(std::clamp<std::size_t>(triangles_.size() / 8000, 64, 1024));
-  bucket_z0_ = bounds_.lo.z;
-  bucket_dz_ = std::max(bounds_.size().z / nb, 1e-9);
-  buckets_.assign(static_cast<std::size_t>(nb), {});
-  for (std::size_t tri = 0; tri < triangles_.size(); ++tri) {
-    double zlo = HUGE_VAL, zhi = -HUGE_VAL;
-    for (int c : triangles_[tri]) {
-      zlo = std::min(zlo, vertices_[static_cast<std::size_t>(c)].z);
-      zhi = std::max(zhi, vertices_[static_cast<std::size_t>(c)].z);
-    }
-    const int b0 = std::clamp(static_cast<int>((zlo - bucket_z0_) / bucket_dz_), 0, nb - 1);
-    const int b1 = std::clamp(static_cast<int>((zhi - bucket_z0_) / bucket_dz_), 0, nb - 1);
-    for (int b = b0; b <= b1; ++b) buckets_[static_cast<std::size_t>(b)].push_back(static_cast<int>(tri));
-  }
-}
-
-void BoundaryMesh::cut(double z, std::vector<Segment2>& out) const {
-  out.clear();
-  if (z < bounds_.lo.z || z > bounds_.hi.z) return;
-  const int b = std::clamp(static_cast<int>((z - bucket_z0_) / bucket_dz_), 0, static_cast<int>(buckets_.size()) - 1);
-  for (int tri : buckets_[static_cast<std::size_t>(b)]) {
-    const auto& t = triangles_[static_cast<std::size_t>(tri)];
-    // A vertex at or above the plane counts as above; a crossing edge has one of each.
-    Vec3 pts[2];
-    int found = 0;
-    for (int e = 0; e < 3; ++e) {
-      int ia = t[static_cast<std::size_t>(e)], ib = t[static_cast<std::size_t>((e + 1) % 3)];
-      if (ia > ib) std::swap(ia, ib);  // fixed order: shared edges cut identically
-      const Vec3& a = vertices_[static_cast<std::size_t>(ia)];
-      const Vec3& bb = vertices_[static_cast<std::size_t>(ib)];
-      if ((a.z >= z) == (bb.z >= z)) continue;
-      const double s = (z - a.z) / (bb.z - a.z);
-      if (found < 2) pts[found] = a + s * (bb - a);
-      ++found;
-    }
-    if (found == 2) out.push_back({pts[0].x, pts[0].y, pts[1].x, pts[1].y});
-  }
+  std::vector<Vec3> vertices(grid_of.size());
+  v.evaluate_many(params, vertices);
+  return {SlicedMesh(std::move(vertices), std::move(triangles)), n, deviation};
 }
 
 }  // namespace trivox::detail

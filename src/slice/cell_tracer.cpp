@@ -5,24 +5,11 @@
 #include <cstring>
 #include <optional>
 
-#include "inverse/newton.h"
+#include "check.h"
+#include "trivox/error.h"
+#include "trivox/inverse/trace.h"
 
 namespace trivox::detail {
-
-TraceCounters& TraceCounters::operator+=(const TraceCounters& o) noexcept {
-  candidates += o.candidates;
-  inside += o.inside;
-  global_calls += o.global_calls;
-  global_unseeded += o.global_unseeded;
-  newton_evals += o.newton_evals;
-  folded += o.folded;
-  unresolved += o.unresolved;
-  guesses += o.guesses;
-  guess_misses += o.guess_misses;
-  jacobian_steps += o.jacobian_steps;
-  slow_path += o.slow_path;
-  return *this;
-}
 
 namespace {
 
@@ -58,6 +45,11 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
 }
 
 void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans) {
+  for (const auto& [first, last] : spans)
+    if (first <= last) {
+      TRIVOX_CHECK_GE(first, 0);
+      TRIVOX_CHECK_LT(last, width_);
+    }
   r.row = row;
   r.y_mm = y_mm;
   r.spans = &spans;
@@ -96,10 +88,13 @@ inline void CellTracer::advance(Row& r) {
 
 inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {
   const auto c = static_cast<std::size_t>(r.col);
+  TRIVOX_CHECK_LT(c, r.ok.size());
+  // A row's solved columns increase (TracedRow's contract).
+  if (!r.out.cols.empty()) TRIVOX_CHECK_LT(r.out.cols.back(), r.col);
   r.ok[c] = 1;
   r.uvw[c] = seed;
   r.jac_of[c] = jacobian_column;
-  ++counters_.inside;
+  ++inside_;
   r.out.cols.push_back(r.col);
   r.out.uvw.push_back(uvw);
   r.out.xyz.push_back(x);
@@ -112,6 +107,8 @@ void CellTracer::keep_jacobian(Row& r, std::size_t c) {
 
 CellTracer::Seed CellTracer::seed_at(const Row& r, int col, Vec3 pixel_x) {
   const auto c = static_cast<std::size_t>(col);
+  TRIVOX_CHECK(r.ok[c] != 0);  // only solved pixels seed
+  TRIVOX_CHECK_GE(r.jac_of[c], 0);
   return {&r.uvw[c], &r.jac[static_cast<std::size_t>(r.jac_of[c])], pixel_x};
 }
 
@@ -216,7 +213,7 @@ void CellTracer::finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 va
 }
 
 void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
-  ++counters_.slow_path;
+  ++counters_.slow_path_pixels;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
   Seed seeds[kMaxSeeds];
@@ -264,10 +261,10 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   switch (g.status) {
     case GlobalStatus::kNone: return;
     case GlobalStatus::kIncomplete:
-      ++counters_.unresolved;
+      ++counters_.unresolved_pixels;
       if (g.preimages.empty()) return;
       break;
-    case GlobalStatus::kMultiple: ++counters_.folded; break;
+    case GlobalStatus::kMultiple: ++counters_.folded_pixels; break;
     case GlobalStatus::kUnique:
     case GlobalStatus::kDegenerate: break;
   }
@@ -310,6 +307,9 @@ void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSp
   std::vector<Mat3> step_jacobian(most);
   std::size_t oldest = 0, next = 0;
   while (oldest < total) {
+    // A raised stop flag ends the layer between rows (a layer of a pathological job may take
+    // long; the job then counts it as not done).
+    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while tracing a layer");
     while (next < total && next < oldest + most) {
       const int row = rows[next];
       start_row(slot(next), row, layout.y_of_row(row), spans[static_cast<std::size_t>(row)]);

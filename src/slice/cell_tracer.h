@@ -28,24 +28,9 @@
 #include "scanline.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/slice/slice_params.h"
+#include "trivox/slice/slice_stats.h"
 
 namespace trivox::detail {
-
-struct TraceCounters {
-  std::int64_t candidates = 0;       // pixels examined
-  std::int64_t inside = 0;           // pixels whose inverse lies in the domain
-  std::int64_t global_calls = 0;     // global solves
-  std::int64_t global_unseeded = 0;  // of which for a pixel with no solved neighbour to start from
-  std::int64_t newton_evals = 0;     // evaluations of V (with or without J) by the tracer and Newton
-  std::int64_t folded = 0;           // pixels with several regular preimages (fold)
-  std::int64_t unresolved = 0;       // global solver ran out of budget
-  std::int64_t guesses = 0;          // extrapolated guesses checked by a value-only evaluation
-  std::int64_t guess_misses = 0;     // of which missed the tolerance
-  std::int64_t jacobian_steps = 0;   // pixels evaluated with their Jacobian in a batch
-  std::int64_t slow_path = 0;        // pixels settled by Newton from each neighbour in turn, then the global solver
-
-  TraceCounters& operator+=(const TraceCounters& o) noexcept;
-};
 
 // One row's inside pixels: columns and their parameters, in increasing column order.
 struct TracedRow {
@@ -69,7 +54,10 @@ class CellTracer {
   void trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
                    const std::function<void(int, const TracedRow&)>& on_row);
 
+  // How the pixels traced so far were settled (trivox/slice/slice_stats.h).
   const TraceCounters& counters() const noexcept { return counters_; }
+  // Pixels traced so far whose inverse lies in the volume's domain.
+  std::int64_t inside() const noexcept { return inside_; }
 
   // Pixels of the row above that a pixel may read as seeds, ahead of its own column.
   static constexpr int kFloodReach = 64;
@@ -147,6 +135,7 @@ class CellTracer {
   const SliceLayout* layout_ = nullptr;  // during trace_layer
   std::vector<Row> ring_;                // rows_in_flight + 1 slots: the rows in flight and the one above them
   TraceCounters counters_;
+  std::int64_t inside_ = 0;
 };
 
 }  // namespace trivox::detail

@@ -9,13 +9,14 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
-#include <thread>
 
 #include <fmt/format.h>
 
+#include "job_parts.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
+#include "trivox/parallel.h"
 
 namespace trivox {
 
@@ -71,10 +72,10 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   const SliceLayout& L = slicer.layout();
   check_job_settings(slicer, params);
   const JobManifest m = job_manifest(slicer, params);
-  const int first = std::max(0, params.first_layer);
-  const int last = params.last_layer < 0 ? L.num_layers - 1 : std::min(params.last_layer, L.num_layers - 1);
+  const detail::LayerRange range = detail::layer_range(L, params);
+  const int first = range.first;
   JobEstimate e;
-  e.model_layers = last - first + 1;
+  e.model_layers = range.count;
   e.padded_layers = m.total_layers - e.model_layers;
   int shard_model = 0, shard_padded = 0;
   for (int index = 0; index < m.total_layers; ++index)
@@ -85,7 +86,7 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   e.height_px = L.height_px;
   const auto layer_pixels = static_cast<std::uint64_t>(L.width_px) * static_cast<std::uint64_t>(L.height_px);
   e.pixels = static_cast<std::int64_t>(layer_pixels * static_cast<std::uint64_t>(e.job_layers));
-  e.threads = params.threads > 0 ? params.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  e.threads = worker_count(params.threads);
   e.peak_memory_bytes = resident_bytes() + static_cast<std::uint64_t>(std::min(e.threads, std::max(1, e.job_layers))) *
                                                worker_bytes(layer_pixels, slicer.scene().num_materials());
 
@@ -106,23 +107,7 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   if (ec)
     throw IoError(
         fmt::format("{}: cannot create a scratch folder for the estimate: {}", scratch.string(), ec.message()));
-  OutputContext ctx;
-  ctx.dir = scratch;
-  for (const MaterialDef& mat : slicer.scene().materials) {
-    ctx.material_names.push_back(mat.name);
-    ctx.material_rgba.push_back(mat.rgba);
-  }
-  ctx.background_rgba = params.background_rgba;
-  ctx.prefix = params.prefix;
-  ctx.total_layers = m.total_layers;
-  ctx.pitch_x_mm = L.pitch_x_mm;  // the gcvf writer checks the resolution when it is made
-  ctx.pitch_y_mm = L.pitch_y_mm;
-  ctx.layer_mm = L.layer_mm;
-  ctx.png = params.png;
-  ctx.model_layers = e.model_layers;
-  ctx.x0_mm = L.x0_mm;
-  ctx.y_top_mm = L.y_top_mm;
-  ctx.z0_mm = L.z0_mm + first * L.layer_mm;
+  const OutputContext ctx = detail::job_output_context(slicer, params, scratch);
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
 

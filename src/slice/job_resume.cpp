@@ -13,7 +13,7 @@ std::optional<ManifestSceneParts> scene_parts(const Scene& scene, const SliceLay
   if (scene.settings_fingerprint.empty()) return std::nullopt;
   ManifestSceneParts parts;
   parts.settings_sha256 = scene.settings_fingerprint;
-  parts.fraction_sums = scene.fraction_policy.policy == SumPolicy::error
+  parts.fraction_sums = scene.fraction_policy.policy == SumPolicy::kError
                             ? fmt::format("error {}", scene.fraction_policy.tolerance)
                             : std::string("normalise");
   for (const Cell& cell : scene.cells) {

@@ -156,11 +156,11 @@ void add_slab_spans(const std::vector<std::array<Vec3, 3>>& triangles, double z0
   }
 }
 
-void shell_row_crossings(const std::vector<ShellSegment>& segments, const SliceLayout& L,
+void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayout& L,
                          std::vector<std::vector<double>>& rows) {
   rows.resize(static_cast<std::size_t>(L.height_px));
   for (auto& r : rows) r.clear();
-  for (const ShellSegment& s : segments) {
+  for (const Segment2& s : segments) {
     const auto [r0, r1] = rows_near(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
     double x;
     for (int r = r0; r <= r1; ++r)

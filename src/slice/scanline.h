@@ -5,9 +5,9 @@
 #include <utility>
 #include <vector>
 
-#include "boundary_mesh.h"
+#include "trivox/math.h"
+#include "trivox/mesh/sliced_mesh.h"
 #include "trivox/slice/layout.h"
-#include "trivox/trim/shell_mesh.h"
 
 namespace trivox::detail {
 
@@ -34,9 +34,9 @@ void merge_spans(RowSpans& rows);
 void intersect_spans(RowSpans& rows, const RowSpans& mask);
 
 // The crossings of every row's centre line with a cut shell (trivox/trim/shell_mesh.h), by
-// the rule of ShellMesh::contains, sorted per row: pixel (col, row) is inside the shell when
-// an odd number of its row's crossings lie beyond x_of_col(col).
-void shell_row_crossings(const std::vector<ShellSegment>& segments, const SliceLayout& layout,
+// the rule of crosses_row (trivox/mesh/sliced_mesh.h), as ShellMesh::contains counts them, sorted per row: pixel (col,
+// row) is inside the shell when an odd number of its row's crossings lie beyond x_of_col(col).
+void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayout& layout,
                          std::vector<std::vector<double>>& rows);
 
 // Whether abscissa x is inside by the even-odd rule over a row's sorted crossings.

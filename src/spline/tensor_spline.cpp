@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "trivox/error.h"
+#include "trivox/limits.h"
 #include "trivox/spline/basis.h"
 
 namespace trivox {
@@ -20,7 +21,16 @@ void TensorSpline::validate() const {
   if (knots_.empty() || knots_.size() > 3)
     throw ModelError(fmt::format("a tensor spline has 1 to 3 parametric directions, got {}", knots_.size()));
   if (point_dim_ < 1) throw ModelError(fmt::format("point dimension must be at least 1, got {}", point_dim_));
-  const auto n = static_cast<std::size_t>(total_ctrl());
+  // The count of control points, checked before total_ctrl() (an int product) is trusted.
+  std::int64_t count = 1;
+  for (const KnotVector& kv : knots_) {
+    const auto next = product_within(count, kv.num_ctrl(), kMaxControlPoints);
+    if (!next)
+      throw ModelError(fmt::format("the knot vectors give more than {} control points (the limit of one spline)",
+                                   kMaxControlPoints));
+    count = *next;
+  }
+  const auto n = static_cast<std::size_t>(count);
   if (points_.size() != n * static_cast<std::size_t>(point_dim_))
     throw ModelError(fmt::format("expected {} control points of dimension {} ({} numbers), got {} numbers", n,
                                  point_dim_, n * static_cast<std::size_t>(point_dim_), points_.size()));

@@ -9,11 +9,10 @@
 
 #include "trivox/math.h"
 #include "trivox/spline/basis.h"
+#include "trivox/spline/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 namespace trivox::detail {
-
-using H = std::array<double, 4>;  // homogeneous control point (w*x, w*y, w*z, w)
 
 struct VolumeData {
   const KnotVector* knots[3];
@@ -78,16 +77,6 @@ struct Basis1 {
       basis_functions(kv, span, t, N);
   }
 };
-
-// A homogeneous point as one 4-wide vector (GCC/Clang vector extension): the contraction
-// below is then a chain of vector multiply-adds, one AVX register per partial sum.
-typedef double V4 __attribute__((vector_size(32)));
-
-inline V4 load(const H& p) noexcept {
-  V4 v;
-  std::memcpy(&v, p.data(), sizeof v);
-  return v;
-}
 
 // The Euclidean value and Jacobian from the homogeneous value S and its partials, each
 // partial first scaled by `scale` (the chain rule of a local coordinate): the quotient rule

@@ -132,15 +132,17 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
 
   // Samples, then the weld: a hash of cells of the weld distance, looking at the 27 cells
   // around each new point so that two points on either side of a cell wall still merge.
-  std::vector<Vec3> raw;
+  std::vector<Vec3> raw, vertices;
+  std::vector<SlicedMesh::Triangle> triangles;
+  Box3 bounds;
   for (const TensorSpline& s : shell.surfaces)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const Vec3 p = eval(s, sample(s.lo(0), s.hi(0), i, n), sample(s.lo(1), s.hi(1), j, n));
         raw.push_back(p);
-        bounds_.expand(p);
+        bounds.expand(p);
       }
-  const double size = norm(bounds_.hi - bounds_.lo);
+  const double size = norm(bounds.hi - bounds.lo);
   const double weld = std::max(1e-9 * size, 1e-12);
   std::unordered_map<CellKey, std::vector<int>, CellHash> cells;
   std::vector<int> index(raw.size());
@@ -156,14 +158,14 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
           const auto it = cells.find({key.x + dx, key.y + dy, key.z + dz});
           if (it == cells.end()) continue;
           for (int v : it->second)
-            if (norm(vertices_[static_cast<std::size_t>(v)] - p) <= weld) {
+            if (norm(vertices[static_cast<std::size_t>(v)] - p) <= weld) {
               found = v;
               break;
             }
         }
     if (found < 0) {
-      found = static_cast<int>(vertices_.size());
-      vertices_.push_back(p);
+      found = static_cast<int>(vertices.size());
+      vertices.push_back(p);
       cells[key].push_back(found);
     }
     index[k] = found;
@@ -177,19 +179,10 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
         const int c = index[base + (j + 1) * un + i + 1], d = index[base + (j + 1) * un + i];
         // Triangles that collapsed in the weld (a pole of a surface) carry no area.
         for (const std::array<int, 3> t : {std::array<int, 3>{a, b, c}, std::array<int, 3>{a, c, d}})
-          if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles_.push_back(t);
+          if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) triangles.push_back(t);
       }
-  std::unordered_map<std::uint64_t, int> edge_use;
-  for (const auto& t : triangles_)
-    for (int e = 0; e < 3; ++e) {
-      auto a = static_cast<std::uint64_t>(t[static_cast<std::size_t>(e)]);
-      auto b = static_cast<std::uint64_t>(t[static_cast<std::size_t>((e + 1) % 3)]);
-      if (a > b) std::swap(a, b);
-      ++edge_use[(a << 32) | b];
-    }
-  for (const auto& [edge, uses] : edge_use)
-    if (uses % 2 == 1) ++open_edges_;
-  build_index();
+  build_index(std::move(vertices), std::move(triangles));
+  open_edges_ = mesh_.odd_edges();
 }
 
 void ShellMesh::build_trimmed(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>* map,
@@ -220,113 +213,72 @@ void ShellMesh::build_trimmed(const TrimShell& shell, double tolerance, const st
     n = std::min(max_samples, 2 * n - 1);
   }
   samples_ = n;
+  std::vector<Vec3> vertices;
+  std::vector<SlicedMesh::Triangle> triangles;
   for (const TensorSpline& s : shell.surfaces) {
     const TrimmedSurface whole{shell.name, s, {}};
-    detail::tessellate_trimmed(whole, n, vertices_, triangles_);
+    detail::tessellate_trimmed(whole, n, vertices, triangles);
   }
-  for (const TrimmedSurface& t : shell.trimmed) detail::tessellate_trimmed(t, n, vertices_, triangles_);
-  for (const Vec3& v : vertices_) bounds_.expand(v);
-  seam_gap_ = detail::check_trimmed_closed(shell, 1e-3 * norm(bounds_.hi - bounds_.lo));
-  build_index();
+  for (const TrimmedSurface& t : shell.trimmed) detail::tessellate_trimmed(t, n, vertices, triangles);
+  build_index(std::move(vertices), std::move(triangles));
+  seam_gap_ = detail::check_trimmed_closed(shell, 1e-3 * norm(bounds().hi - bounds().lo));
 }
 
 ShellMesh ShellMesh::mapped(const std::function<Vec3(Vec3)>& map) const {
   ShellMesh m;
   m.samples_ = samples_;
-  m.triangles_ = triangles_;
   m.open_edges_ = open_edges_;
   m.gap_tolerant_ = gap_tolerant_;
   m.seam_gap_ = seam_gap_;
-  m.vertices_.reserve(vertices_.size());
-  for (const Vec3& v : vertices_) {
-    m.vertices_.push_back(map(v));
-    m.bounds_.expand(m.vertices_.back());
-  }
-  m.build_index();
+  const SlicedMesh moved = mesh_.mapped(map);
+  m.build_index(moved.vertices(), moved.triangles());
   return m;
 }
 
-void ShellMesh::build_index() {
-  z_buckets_.clear();
+namespace {
+
+// floor(v) clamped to [0, n - 1], safe for any v (compared as a double before the cast).
+int clamped_floor(double v, int n) noexcept {
+  const double f = std::floor(v);
+  if (!(f > 0)) return 0;
+  return f >= n - 1 ? n - 1 : static_cast<int>(f);
+}
+
+}  // namespace
+
+void ShellMesh::build_index(std::vector<Vec3> vertices, std::vector<SlicedMesh::Triangle> triangles) {
+  mesh_ = SlicedMesh(std::move(vertices), std::move(triangles));
   yz_cells_.clear();
-  if (triangles_.empty() || bounds_.empty()) return;
-  const double tri = static_cast<double>(triangles_.size());
-  nz_ = std::clamp(static_cast<int>(std::sqrt(tri)), 1, 4096);
-  ny_ = std::clamp(static_cast<int>(std::sqrt(tri / 4.0)), 1, 1024);
-  z0_ = bounds_.lo.z;
-  dz_ = std::max((bounds_.hi.z - bounds_.lo.z) / nz_, 1e-300);
-  y0_ = bounds_.lo.y;
-  dy_ = std::max((bounds_.hi.y - bounds_.lo.y) / ny_, 1e-300);
-  const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
-  z_buckets_.resize(static_cast<std::size_t>(nz_));
+  const Box3& b = mesh_.bounds();
+  if (mesh_.empty() || b.empty()) return;
+  ny_ = std::clamp(static_cast<int>(std::sqrt(static_cast<double>(mesh_.triangle_count()) / 4.0)), 1, 1024);
+  z0_ = b.lo.z;
+  dzc_ = std::max((b.hi.z - b.lo.z) / ny_, 1e-300);
+  y0_ = b.lo.y;
+  dy_ = std::max((b.hi.y - b.lo.y) / ny_, 1e-300);
   yz_cells_.resize(static_cast<std::size_t>(ny_) * static_cast<std::size_t>(ny_));
-  auto clampi = [](double v, int n) { return std::clamp(static_cast<int>(std::floor(v)), 0, n - 1); };
-  for (std::size_t k = 0; k < triangles_.size(); ++k) {
-    Box3 b;
-    for (int v : triangles_[k]) b.expand(vertices_[static_cast<std::size_t>(v)]);
-    for (int i = clampi((b.lo.z - z0_) / dz_, nz_); i <= clampi((b.hi.z - z0_) / dz_, nz_); ++i)
-      z_buckets_[static_cast<std::size_t>(i)].push_back(static_cast<int>(k));
-    for (int iz = clampi((b.lo.z - z0_) / dzc, ny_); iz <= clampi((b.hi.z - z0_) / dzc, ny_); ++iz)
-      for (int iy = clampi((b.lo.y - y0_) / dy_, ny_); iy <= clampi((b.hi.y - y0_) / dy_, ny_); ++iy)
+  const auto& verts = mesh_.vertices();
+  const auto& tris = mesh_.triangles();
+  for (std::size_t k = 0; k < tris.size(); ++k) {
+    Box3 t;
+    for (int v : tris[k]) t.expand(verts[static_cast<std::size_t>(v)]);
+    for (int iz = clamped_floor((t.lo.z - z0_) / dzc_, ny_); iz <= clamped_floor((t.hi.z - z0_) / dzc_, ny_); ++iz)
+      for (int iy = clamped_floor((t.lo.y - y0_) / dy_, ny_); iy <= clamped_floor((t.hi.y - y0_) / dy_, ny_); ++iy)
         yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)]
             .push_back(static_cast<int>(k));
   }
 }
 
-bool ShellMesh::cut_triangle(int tri, double z, ShellSegment& s) const {
-  const auto& t = triangles_[static_cast<std::size_t>(tri)];
-  Vec3 pts[2];
-  int found = 0;
-  for (int e = 0; e < 3; ++e) {
-    int ia = t[static_cast<std::size_t>(e)], ib = t[static_cast<std::size_t>((e + 1) % 3)];
-    if (ia > ib) std::swap(ia, ib);  // fixed order: shared edges cut identically
-    const Vec3& a = vertices_[static_cast<std::size_t>(ia)];
-    const Vec3& b = vertices_[static_cast<std::size_t>(ib)];
-    if ((a.z >= z) == (b.z >= z)) continue;
-    const double u = (z - a.z) / (b.z - a.z);
-    if (found < 2) pts[found] = a + u * (b - a);
-    ++found;
-  }
-  if (found != 2) return false;
-  s = {pts[0].x, pts[0].y, pts[1].x, pts[1].y};
-  return true;
-}
-
-void ShellMesh::cut(double z, std::vector<ShellSegment>& out) const {
-  out.clear();
-  if (z_buckets_.empty() || z < bounds_.lo.z || z > bounds_.hi.z) return;
-  const int b = std::clamp(static_cast<int>(std::floor((z - z0_) / dz_)), 0, nz_ - 1);
-  ShellSegment s;
-  for (int tri : z_buckets_[static_cast<std::size_t>(b)])
-    if (cut_triangle(tri, z, s)) out.push_back(s);
-}
-
-void ShellMesh::slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out) const {
-  out.clear();
-  if (z_buckets_.empty() || z1 < bounds_.lo.z || z0 > bounds_.hi.z) return;
-  auto bucket = [&](double z) { return std::clamp(static_cast<int>(std::floor((z - z0_) / dz_)), 0, nz_ - 1); };
-  const int b0 = bucket(z0), b1 = bucket(z1);
-  for (int b = b0; b <= b1; ++b)
-    for (int tri : z_buckets_[static_cast<std::size_t>(b)]) {
-      const auto& t = triangles_[static_cast<std::size_t>(tri)];
-      const Vec3& p = vertices_[static_cast<std::size_t>(t[0])];
-      const Vec3& q = vertices_[static_cast<std::size_t>(t[1])];
-      const Vec3& r = vertices_[static_cast<std::size_t>(t[2])];
-      const double lo = std::min({p.z, q.z, r.z}), hi = std::max({p.z, q.z, r.z});
-      if (hi < z0 || lo > z1) continue;
-      // A triangle spanning several buckets is listed in each: emit it from the first one
-      // the slab and the triangle share.
-      if (b != std::max(b0, bucket(lo))) continue;
-      out.push_back({p, q, r});
-    }
+std::size_t ShellMesh::yz_cell(double y, double z) const noexcept {
+  return static_cast<std::size_t>(clamped_floor((z - z0_) / dzc_, ny_)) * static_cast<std::size_t>(ny_) +
+         static_cast<std::size_t>(clamped_floor((y - y0_) / dy_, ny_));
 }
 
 bool ShellMesh::line_parity(Vec3 p, double dx, double dy, bool& even) const {
-  const int b = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dz_)), 0, nz_ - 1);
   int beyond = 0, total = 0;
-  ShellSegment s;
-  for (int tri : z_buckets_[static_cast<std::size_t>(b)]) {
-    if (!cut_triangle(tri, p.z, s)) continue;
+  Segment2 s;
+  for (int tri : mesh_.near(p.z)) {
+    if (!mesh_.cut_triangle(tri, p.z, s)) continue;
     // Signed distances from the line, with the tie rule "on the line counts as above".
     const double s0 = -dy * (s.x0 - p.x) + dx * (s.y0 - p.y), s1 = -dy * (s.x1 - p.x) + dx * (s.y1 - p.y);
     if ((s0 >= 0) == (s1 >= 0)) continue;
@@ -340,20 +292,17 @@ bool ShellMesh::line_parity(Vec3 p, double dx, double dy, bool& even) const {
 }
 
 bool ShellMesh::contains(Vec3 p) const {
+  const Box3& b = bounds();
   if (gap_tolerant_) {
-    if (z_buckets_.empty() || !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y &&
-                                p.y <= bounds_.hi.y && p.x >= bounds_.lo.x && p.x <= bounds_.hi.x))
+    if (yz_cells_.empty() ||
+        !(p.z >= b.lo.z && p.z <= b.hi.z && p.y >= b.lo.y && p.y <= b.hi.y && p.x >= b.lo.x && p.x <= b.hi.x))
       return false;
     // Along x by the rule of the rows (crosses_row), then y and the diagonals.
-    const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
-    const int iz = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dzc)), 0, ny_ - 1);
-    const int iy = std::clamp(static_cast<int>(std::floor((p.y - y0_) / dy_)), 0, ny_ - 1);
     int beyond = 0, total = 0;
-    ShellSegment s;
+    Segment2 s;
     double x;
-    for (int tri :
-         yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
-      if (cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x)) {
+    for (int tri : yz_cells_[yz_cell(p.y, p.z)])
+      if (mesh_.cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x)) {
         ++total;
         if (x > p.x) ++beyond;
       }
@@ -366,17 +315,13 @@ bool ShellMesh::contains(Vec3 p) const {
     }
     return beyond % 2 == 1;
   }
-  if (yz_cells_.empty() ||
-      !(p.z >= bounds_.lo.z && p.z <= bounds_.hi.z && p.y >= bounds_.lo.y && p.y <= bounds_.hi.y) || p.x > bounds_.hi.x)
+  if (yz_cells_.empty() || !(p.z >= b.lo.z && p.z <= b.hi.z && p.y >= b.lo.y && p.y <= b.hi.y) || p.x > b.hi.x)
     return false;
-  const double dzc = std::max((bounds_.hi.z - bounds_.lo.z) / ny_, 1e-300);
-  const int iz = std::clamp(static_cast<int>(std::floor((p.z - z0_) / dzc)), 0, ny_ - 1);
-  const int iy = std::clamp(static_cast<int>(std::floor((p.y - y0_) / dy_)), 0, ny_ - 1);
   bool inside = false;
-  ShellSegment s;
+  Segment2 s;
   double x;
-  for (int tri : yz_cells_[static_cast<std::size_t>(iz) * static_cast<std::size_t>(ny_) + static_cast<std::size_t>(iy)])
-    if (cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x) && x > p.x) inside = !inside;
+  for (int tri : yz_cells_[yz_cell(p.y, p.z)])
+    if (mesh_.cut_triangle(tri, p.z, s) && crosses_row(s, p.y, x) && x > p.x) inside = !inside;
   return inside;
 }
 

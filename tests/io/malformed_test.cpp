@@ -97,7 +97,11 @@ INSTANTIATE_TEST_SUITE_P(
         MalformedCase{"xml_knots_decreasing.xml", false, 9, "knots decrease"},
         MalformedCase{"xml_nan_coefs.xml", false, 18, "'NaN' is not finite"},
         MalformedCase{"xml_non_numeric.xml", false, 16, "'abc' is not a number"},
-        MalformedCase{"xml_wrong_root.xml", false, 2, "root element must be <xml>"}),
+        MalformedCase{"xml_wrong_root.xml", false, 2, "root element must be <xml>"},
+        // Sizes given by mode="uniform" csize: refused before anything is allocated for them,
+        // without overflow (67108864 x 67108864 x 4096 functions is 2^64).
+        MalformedCase{"xml_uniform_overflow.xml", false, 6, "but <coefs> holds only 0 numbers"},
+        MalformedCase{"xml_uniform_huge.xml", false, 6, "holds only 24 numbers"}),
     case_name);
 
 TEST(MalformedInput, EveryCorpusFileHasACase) {
@@ -105,7 +109,7 @@ TEST(MalformedInput, EveryCorpusFileHasACase) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(fs::path(TRIVOX_TEST_DATA_DIR) / "malformed"))
     files += e.is_regular_file() ? 1 : 0;
-  EXPECT_EQ(files, 40);
+  EXPECT_EQ(files, 42);
 }
 
 TEST(MalformedInput, MissingFileIsAnIoError) {

@@ -260,7 +260,7 @@ TEST(FractionCheck, ProvesBreaksOrCannotProve) {
   EXPECT_NE(trig.reason.find("may reach"), std::string::npos) << trig.reason;
   // Under "normalise" sums above 1 are no error; values that are not numbers still are.
   FractionPolicy normalise;
-  normalise.policy = SumPolicy::normalise;
+  normalise.policy = SumPolicy::kNormalise;
   EXPECT_EQ(check({"u + 0.5", "1"}, normalise).outcome, FractionCheckOutcome::kProved);
   EXPECT_EQ(check({"ln(u - 0.5)", "1"}, normalise).outcome, FractionCheckOutcome::kBroken);
 }

@@ -113,7 +113,7 @@ MaterialSite site() { return {"scene.json", "/cells/2/material", "lid", {"A", "B
 
 TEST(MaterialFractionPolicy, ErrorPolicyNamesCellAndParameters) {
   const auto inner = std::make_shared<ConstantMaterial>(std::vector<float>{0.8f, 0.5f});
-  const CheckedMaterial f(inner, {SumPolicy::error, 1e-4}, site());
+  const CheckedMaterial f(inner, {SumPolicy::kError, 1e-4}, site());
   std::vector<float> out(2);
   try {
     f.evaluate({0.25, 0.5, 0.75}, {}, out);
@@ -127,7 +127,7 @@ TEST(MaterialFractionPolicy, ErrorPolicyNamesCellAndParameters) {
     EXPECT_NE(what.find("(0.25, 0.5, 0.75)"), std::string::npos) << what;
   }
   const CheckedMaterial negative(std::make_shared<ConstantMaterial>(std::vector<float>{-0.1f, 0.5f}),
-                                 {SumPolicy::error, 1e-4}, site());
+                                 {SumPolicy::kError, 1e-4}, site());
   try {
     negative.evaluate({0, 0, 0}, {}, out);
     FAIL() << "no error";
@@ -138,19 +138,19 @@ TEST(MaterialFractionPolicy, ErrorPolicyNamesCellAndParameters) {
 
 TEST(MaterialFractionPolicy, WithinToleranceIsCleanedUp) {
   const CheckedMaterial f(std::make_shared<ConstantMaterial>(std::vector<float>{0.50004f, 0.50004f}),
-                          {SumPolicy::error, 1e-4}, site());
+                          {SumPolicy::kError, 1e-4}, site());
   std::vector<float> out(2);
   f.evaluate({0, 0, 0}, {}, out);
   EXPECT_LE(out[0] + out[1], 1.0f + 1e-6f);
   const CheckedMaterial g(std::make_shared<ConstantMaterial>(std::vector<float>{-0.00005f, 0.5f}),
-                          {SumPolicy::error, 1e-4}, site());
+                          {SumPolicy::kError, 1e-4}, site());
   g.evaluate({0, 0, 0}, {}, out);
   EXPECT_EQ(out, (std::vector<float>{0.0f, 0.5f}));
 }
 
 TEST(MaterialFractionPolicy, NormaliseClampsAndScales) {
   const CheckedMaterial f(std::make_shared<ConstantMaterial>(std::vector<float>{-0.5f, 0.9f, 0.6f}),
-                          {SumPolicy::normalise, 1e-4}, {"s.json", "/cells/0/material", "c", {}});
+                          {SumPolicy::kNormalise, 1e-4}, {"s.json", "/cells/0/material", "c", {}});
   std::vector<float> out(3);
   f.evaluate({0, 0, 0}, {}, out);
   EXPECT_EQ(out[0], 0.0f);
@@ -158,7 +158,7 @@ TEST(MaterialFractionPolicy, NormaliseClampsAndScales) {
   EXPECT_NEAR(out[2], 0.4, 1e-6);
   // Sums below 1 are left alone (the rest is void).
   const CheckedMaterial g(std::make_shared<ConstantMaterial>(std::vector<float>{0.2f, 0.3f}),
-                          {SumPolicy::normalise, 1e-4}, site());
+                          {SumPolicy::kNormalise, 1e-4}, site());
   std::vector<float> two(2);
   g.evaluate({0, 0, 0}, {}, two);
   EXPECT_EQ(two, (std::vector<float>{0.2f, 0.3f}));
@@ -171,14 +171,14 @@ TEST(MaterialFractionPolicy, NotFiniteIsAlwaysAnError) {
   ExpressionParams e;
   e.expressions = {"sqrt(-1)"};
   const CheckedMaterial f(std::make_shared<ExpressionMaterial>(e, ParamBox{{0, 0, 0}, {1, 1, 1}}),
-                          {SumPolicy::normalise, 1e-4}, site());
+                          {SumPolicy::kNormalise, 1e-4}, site());
   std::vector<float> out(1);
   EXPECT_THROW(f.evaluate({0, 0, 0}, {}, out), InputError);
 }
 
 TEST(MaterialFractionPolicy, ValidatesTolerance) {
-  EXPECT_THROW((FractionPolicy{SumPolicy::error, -1.0}.validate()), Error);
-  EXPECT_THROW((FractionPolicy{SumPolicy::error, NAN}.validate()), Error);
+  EXPECT_THROW((FractionPolicy{SumPolicy::kError, -1.0}.validate()), Error);
+  EXPECT_THROW((FractionPolicy{SumPolicy::kError, NAN}.validate()), Error);
   EXPECT_THROW(CheckedMaterial(nullptr, {}, site()), Error);
 }
 

@@ -44,7 +44,7 @@ TEST(SceneReader, MinimalScene) {
   EXPECT_EQ(scene.materials[1].rgba, (std::array<std::uint8_t, 4>{0, 255, 0, 128}));
   EXPECT_EQ(scene.material_index("B"), 1);
   EXPECT_EQ(scene.material_index("void"), kVoidMaterial);
-  EXPECT_EQ(scene.fraction_policy.policy, SumPolicy::error);
+  EXPECT_EQ(scene.fraction_policy.policy, SumPolicy::kError);
   ASSERT_EQ(scene.cells.size(), 1u);
   const Cell& cell = scene.cells[0];
   EXPECT_EQ(cell.name, "cell 0");

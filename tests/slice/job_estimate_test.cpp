@@ -81,8 +81,10 @@ TEST(JobEstimate, StatsJsonIsCounted) {
   const std::uint64_t stats_bytes = fs::file_size(p.output_dir / "stats.json");
   EXPECT_GT(stats_bytes, all_bytes / 4) << "stats.json is not a large part of this job";
   // stats.json within 5% (its timings' digits vary), the whole output within 10%.
-  EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes), 0.05 * stats_bytes);
-  EXPECT_NEAR(static_cast<double>(e.output_bytes), static_cast<double>(all_bytes), 0.10 * all_bytes);
+  EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes),
+              0.05 * static_cast<double>(stats_bytes));
+  EXPECT_NEAR(static_cast<double>(e.output_bytes), static_cast<double>(all_bytes),
+              0.10 * static_cast<double>(all_bytes));
   fs::remove_all(p.output_dir);
 }
 
@@ -163,7 +165,8 @@ TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
         fs::file_size(p.output_dir / "materials.csv") + fs::file_size(p.output_dir / "manifest.json");
     const std::uint64_t allowance = 140u * 2u;  // the manifest's, for two files
     const std::uint64_t stats_bytes = fs::file_size(p.output_dir / "stats.json");
-    EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes), 0.05 * stats_bytes);
+    EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes),
+                0.05 * static_cast<double>(stats_bytes));
     const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance + e.stats_bytes;
     EXPECT_LE(rest, fs::file_size(p.output_dir / "materials.csv") + allowance + 2000u);
     if (format == "vdb") {

@@ -88,10 +88,11 @@ TEST(JobFractionStop, StopsAtOnceNamingCellLayerPositionAndParameters) {
   ASSERT_TRUE(e.has_position());
   EXPECT_NEAR(e.xyz().z, L.z_of_layer(bad), 1e-9);
   const std::string what = e.what();
-  for (const std::string part : {fmt::format("layer {} (z = {:.6g} mm)", bad + 1, L.z_of_layer(bad)),
-                                 std::string("cell 'high'"), std::string("the fractions sum to 1.5"),
-                                 fmt::format("(u,v,w) = ({:.6g}, {:.6g}, {:.6g})", e.uvw().x, e.uvw().y, e.uvw().z),
-                                 fmt::format("(x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm", e.xyz().x, e.xyz().y, e.xyz().z)})
+  for (const std::string& part :
+       {fmt::format("layer {} (z = {:.6g} mm)", bad + 1, L.z_of_layer(bad)), std::string("cell 'high'"),
+        std::string("the fractions sum to 1.5"),
+        fmt::format("(u,v,w) = ({:.6g}, {:.6g}, {:.6g})", e.uvw().x, e.uvw().y, e.uvw().z),
+        fmt::format("(x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm", e.xyz().x, e.xyz().y, e.xyz().z)})
     EXPECT_NE(what.find(part), std::string::npos) << part << " in " << what;
   // At once: every layer below the bad one is complete and recorded, none above it.
   const JobManifest m = read_manifest(dir / "manifest.json");

@@ -148,6 +148,28 @@ TEST(SliceJob, StatsSayHowThePixelsWereSettled) {
   EXPECT_GT(stats["total"].at("guesses").get<long>(), stats["total"].at("candidates").get<long>() / 2);
 }
 
+// stats.json writes every counter of kTraceCounterFields, per layer as the slicer counted
+// it and in total as the sum of the layers (LayerStats' +=).
+TEST(SliceJob, StatsWriteEveryCounterPerLayerAndTheirSum) {
+  const Scene scene = two_material_scene();
+  const Slicer slicer(scene, {});
+  const auto stats = two_material_stats(slicer, "every-counter");
+  LayerStats sum;
+  for (const auto& layer : stats.at("layers")) {
+    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>()).stats;
+    for (const TraceCounterField& f : kTraceCounterFields)
+      EXPECT_EQ(layer.at(std::string(f.name)).get<std::int64_t>(), direct.*f.member) << f.name;
+    sum += direct;
+  }
+  int nonzero = 0;
+  for (const TraceCounterField& f : kTraceCounterFields) {
+    EXPECT_EQ(stats.at("total").at(std::string(f.name)).get<std::int64_t>(), sum.*f.member) << f.name;
+    nonzero += sum.*f.member != 0;
+  }
+  EXPECT_GE(nonzero, 5);  // the scene exercises most of them
+  EXPECT_EQ(stats["total"].at("pixels_inside").get<std::int64_t>(), sum.pixels_inside);
+}
+
 // The scene's dithering applies unless the slice parameters give their own.
 TEST(SliceJob, SceneDitheringAppliesUnlessOverridden) {
   Scene scene = two_material_scene();

@@ -35,7 +35,7 @@ TEST(Scanline, SegmentsEndingOnARowCentreKeepTheirCrossing) {
   // through B, so row r crosses it once there (A B ends on the line, B C starts on it; by the
   // rule "on the line counts as above" only A B crosses) and once on D A.
   const double ax = 0, ay = yc - 1, bx = 1, by = yc, cx = 0, cy = yc + 1, dx = -1, dy = yc + 0.3;
-  const std::vector<ShellSegment> shell = {{ax, ay, bx, by}, {bx, by, cx, cy}, {cx, cy, dx, dy}, {dx, dy, ax, ay}};
+  const std::vector<Segment2> shell = {{ax, ay, bx, by}, {bx, by, cx, cy}, {cx, cy, dx, dy}, {dx, dy, ax, ay}};
   std::vector<std::vector<double>> rows;
   detail::shell_row_crossings(shell, L, rows);
   ASSERT_EQ(rows[static_cast<std::size_t>(r)].size(), 2u);
@@ -46,8 +46,8 @@ TEST(Scanline, SegmentsEndingOnARowCentreKeepTheirCrossing) {
 
   // The cells' outlines: the same crossing fills the span between them (with no margin),
   // not the fallback of an odd row.
-  std::vector<detail::Segment2> outline;
-  for (const ShellSegment& s : shell) outline.push_back({s.x0, s.y0, s.x1, s.y1});
+  std::vector<Segment2> outline;
+  for (const Segment2& s : shell) outline.push_back({s.x0, s.y0, s.x1, s.y1});
   detail::RowSpans spans;
   detail::candidate_spans(outline, L, 0.0, spans);
   const auto& row = spans[static_cast<std::size_t>(r)];

@@ -14,6 +14,8 @@
 // meets the target; the result is still only checked at samples (as every Jacobian check is).
 #pragma once
 
+#include <atomic>
+
 #include <vector>
 
 #include "trivox/spline/tensor_spline.h"
@@ -29,6 +31,8 @@ struct UntangleParams {
   // included); the grid should be finer than any check grid used afterwards.
   int samples_per_span = 3;
   double target_relative = 0.05;  // aimed-for minimum of sigma det J / mean |det J|
+  // Checked every iteration: once true, untangle() throws CancelledError.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct UntangleResult {

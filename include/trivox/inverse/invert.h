@@ -118,6 +118,15 @@ class GlobalSolver {
   // few subdivisions instead of many.
   GlobalResult solve(Vec3 x, const GlobalSolveParams& params = {}, std::optional<Vec3> outward = {}) const;
 
+  // The box of V's image over its whole domain, tight: each side lies beyond every point of
+  // the image and within `tolerance_model` of some point of it (branch and bound over the
+  // Bezier pieces, halved where their control points' extreme is not yet within the
+  // tolerance of an extreme point found; both are exact bounds, by the convex hull property
+  // and because a net's corners lie on the volume). Depends on the volume alone, never on an
+  // approximation of it. After `max_nets` halvings per side the side is the best upper
+  // bound found so far: still outside the image, not always within the tolerance.
+  Box3 image_bounds(double tolerance_model, int max_nets = 100000) const;
+
  private:
   struct Pieces;
   const Volume* volume_;

@@ -101,12 +101,12 @@ class MaterialFunction {
 
 // What to do when a sample's fractions break the rules (a negative fraction or a sum above 1).
 enum class SumPolicy {
-  error,      // beyond `tolerance`: throw InputError naming the cell and (u,v,w)
-  normalise,  // clamp negatives to 0, scale sums above 1 down to 1
+  kError,      // beyond `tolerance`: throw InputError naming the cell and (u,v,w)
+  kNormalise,  // clamp negatives to 0, scale sums above 1 down to 1
 };
 
 struct FractionPolicy {
-  SumPolicy policy = SumPolicy::error;
+  SumPolicy policy = SumPolicy::kError;
   // Slack allowed on both rules before the "error" policy throws; within it, fractions are
   // still clamped and scaled so that the output rules hold exactly. Dimensionless.
   double tolerance = 1e-4;

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "trivox/output/png_io.h"
@@ -102,6 +103,12 @@ std::vector<std::string> layer_writer_names();
 // files, under a folder named after the format, when the job completes) rather than one
 // that writes files for every layer. Throws Error for an unknown name.
 bool is_stack_format(std::string_view format);
+
+// Display-colour PNGs of chosen layers at their true proportions, preview/layer_NNNNN.png
+// (`trivox slice --preview`; layer_preview_writer.cpp). `layers` pairs a job layer index
+// with the model layer number (1-based) its file is named after.
+std::unique_ptr<LayerWriter> make_layer_preview_writer(const OutputContext& context,
+                                                       std::vector<std::pair<int, int>> layers);
 
 // Zero-padded layer number for file names: at least 5 digits.
 std::string layer_number(int index, int total_layers);

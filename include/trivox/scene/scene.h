@@ -6,6 +6,8 @@
 // closed shells in model space or by closed surfaces in its parametric domain (trim.h).
 #pragma once
 
+#include <atomic>
+
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -105,11 +107,14 @@ struct Scene {
 // Reads a scene file. Model and field files it names are read relative to its folder.
 // Throws IoError when the scene file cannot be read, and InputError for everything wrong
 // inside it or in the files it names: what() is "scene.json: /json/pointer: rule" (or
-// "scene.json:LINE: rule" for JSON syntax errors).
-Scene read_scene(const std::filesystem::path& path);
+// "scene.json:LINE: rule" for JSON syntax errors). `stop` (optional, may be set from a
+// signal handler) is checked by the long constructions (untangling): once it is true,
+// reading throws CancelledError.
+Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr);
 
 // The same from text: `source` names the scene in errors, and relative file names resolve
 // against source's parent folder.
-Scene parse_scene(std::string_view json_text, const std::filesystem::path& source);
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source,
+                  const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox

@@ -87,7 +87,6 @@ class ProgressSink {
 // Returns with stats.interrupted set when JobParams::stop was raised.
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress = nullptr);
 
-// stats.json: per layer and in total, the columns of the paper's Table 2.
 // Throws Error when the job cannot run on the scene's printer or with these settings: more
 // materials than the printer takes, a shard number out of range, an empty layer range.
 void check_job_settings(const Slicer& slicer, const JobParams& params);
@@ -96,6 +95,8 @@ void check_job_settings(const Slicer& slicer, const JobParams& params);
 // count, status running, no files.
 JobManifest job_manifest(const Slicer& slicer, const JobParams& params);
 
+// stats.json (FORMATS.md): the job's settings, then per layer and in total the columns of
+// the paper's Table 2 and how the pixels were settled (stats_json.cpp).
 void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, const JobStats& stats);
 
 }  // namespace trivox

@@ -1,6 +1,9 @@
 // Settings of the slicer (Algorithm 1 of the paper), with units in the names.
 #pragma once
 
+#include <atomic>
+#include <cstdint>
+
 #include <optional>
 #include <string_view>
 
@@ -17,8 +20,8 @@ enum class TracingStrategy {
   kPreviousPoint,  // the previous pixel of the row
   kPreviousLine,   // the previous pixel of the row, else the pixel above
   kFull,           // any already solved 8-neighbour (left, up-left, up, up-right)
-  kPredict,        // full, but first the quadratic through the row's last three solutions,
-                   // checked with one evaluation
+  kPredict,        // full, but first the cubic through the row's last four solutions,
+                   // checked with one evaluation (SLICING.md)
   kFlood,          // predict, then the nearest solved pixel of this row or the row above
                    // (within 64 pixels) before the global solver: a span that starts where
                    // the row above had no solved neighbour is reached from inside the cell
@@ -58,6 +61,15 @@ struct SliceParams {
   bool model_space_narrowing = true;
   // The dithering; absent: the scene's "dithering" settings, else DitherParams' defaults.
   std::optional<DitherParams> dither;
+  // Memory (bytes) the job may use, 0 for no limit. The cells' outline meshes get at most
+  // half of it, shared out before any is built (each also stays within a budget set by its
+  // size in pixels; SLICING.md, "outline meshes"); a mesh its budget cuts short is coarser
+  // and the band of pixels decided by the exact inverse wider, so the output is the same.
+  std::uint64_t memory_limit_bytes = 0;
+  // Checked by the slicer's set-up (outline and shell meshes) and between rows of a layer:
+  // once it is true, the constructor and slice_layer throw CancelledError. May be set from a
+  // signal handler. Not a setting of the output (nothing in the manifest).
+  const std::atomic<bool>* stop = nullptr;
 
   // Throws trivox::Error naming the field.
   void validate() const;

@@ -10,34 +10,13 @@
 #include "trivox/scene/scene.h"
 #include "trivox/slice/layout.h"
 #include "trivox/slice/slice_params.h"
+#include "trivox/slice/slice_stats.h"
 
 namespace trivox {
 
-// The columns of the paper's Table 2, per layer.
-struct LayerStats {
-  int layer = 0;
-  double z_mm = 0;
-  double seconds = 0;                  // wall time of this layer (not part of the output bytes)
-  double seconds_inverse = 0;          // of which outlines and inversion
-  double seconds_material = 0;         // material evaluation
-  double seconds_dither = 0;           // dithering
-  std::int64_t pixels_total = 0;       // pixels in the bitmap
-  std::int64_t pixels_inside = 0;      // pixels inside some cell
-  std::int64_t candidates = 0;         // pixels inverted (inside the widened outlines)
-  std::int64_t global_calls = 0;       // global solves
-  std::int64_t global_unseeded = 0;    // of which for a pixel no solved neighbour could seed
-  std::int64_t newton_evals = 0;       // evaluations of V (with or without J) by tracing and Newton
-  std::int64_t guesses = 0;            // row guesses checked by one value (SLICING.md, tracing)
-  std::int64_t guess_misses = 0;       // of which missed the residual tolerance
-  std::int64_t jacobian_steps = 0;     // pixels evaluated with their Jacobian in a batch
-  std::int64_t slow_path_pixels = 0;   // pixels settled by Newton from each neighbour, then the global solver
-  std::int64_t folded_pixels = 0;      // pixels where a cell folds (several preimages)
-  std::int64_t unresolved_pixels = 0;  // pixels where the global solver ran out of budget
-  std::vector<std::int64_t> voxels_per_material;  // after dithering; index = scene material
-  // Pixels each cell owns (index = scene cell): every inside pixel has exactly one owner,
-  // so these add up to pixels_inside.
-  std::vector<std::int64_t> pixels_per_cell;
-};
+namespace detail {
+struct TracedRow;
+}
 
 struct LayerResult {
   LabelImage labels;  // 0 = void / background, 1 + j = scene material j
@@ -69,11 +48,32 @@ class Slicer {
   LayerResult slice_layer(int layer, std::vector<int>* owner) const;
 
  private:
+  // Prepared once (slicer.cpp); a layer's state (slicer_parts.h).
   struct Trivariate;
   struct CellData;
   struct LayerBuffers;
+  struct LayerWork;
+  void check_model_fits(double finest_pitch_mm) const;
+  void prepare_cells();
+  void lay_out(double finest_pitch_mm);
+  void build_meshes(double finest_pitch_mm);
   std::unique_ptr<LayerBuffers> take_buffers() const;
   void give_back(std::unique_ptr<LayerBuffers> buffers) const;
+
+  // The steps of slice_layer (slice_layer.cpp).
+  void trace_trimming_volumes(LayerWork& w) const;
+  void cut_trimming_shells(LayerWork& w) const;
+  void slice_cell(int cell, LayerWork& w) const;
+  bool candidate_pixels(const CellData& cd, LayerWork& w) const;
+  void narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) const;
+  void narrow_to_parametric_outlines(const CellData& cd, LayerWork& w) const;
+  bool passes_model_space_clauses(const CellData& cd, int col, int row, const LayerWork& w) const;
+  static bool passes_parametric_clauses(const CellData& cd, Vec3 uvw);
+  const detail::TracedRow& kept_by_trims(const CellData& cd, int row, const detail::TracedRow& traced,
+                                         bool test_model_space, detail::TracedRow& kept, const LayerWork& w) const;
+  void paint_row(int cell, int row, const detail::TracedRow& traced, LayerWork& w) const;
+  void count_labels(LayerResult& result, LayerWork& w, std::vector<int>* owner) const;
+
   const Scene& scene_;
   SliceParams params_;
   DitherParams dither_;

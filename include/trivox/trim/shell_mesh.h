@@ -8,12 +8,13 @@
 // edges share vertex indices. A shell whose welded mesh still has an edge used by an odd
 // number of triangles is open, and inside and outside would not be defined.
 //
-// Inside and outside follow the even-odd rule along +x in the plane of constant z, with one
-// tie rule everywhere ("a vertex at or above a plane or line counts as above", crossing
-// points computed from each edge in a fixed vertex order): two triangles that share an edge
-// cut it at bit-identical points, so a point is never counted in or out twice, whatever
-// degenerate position it takes. The slicer uses the same cut per layer (cut()) and the same
-// crossing rule per row, so its pixels and contains() agree.
+// The mesh itself is a SlicedMesh (trivox/mesh/sliced_mesh.h). Inside and outside follow the
+// even-odd rule along +x in the plane of constant z, with the SlicedMesh's tie rule ("a vertex
+// at or above a plane or line counts as above", crossing points computed from each edge in a
+// fixed vertex order): two triangles that share an edge cut it at bit-identical points, so a
+// point is never counted in or out twice, whatever degenerate position it takes. The slicer
+// uses the same cut per layer (mesh().cut()) and the same crossing rule per row
+// (crosses_row), so its pixels and contains() agree.
 //
 // A shell with trimmed surfaces (an IRIT MODEL) cannot be welded: its surfaces meet only
 // within the accuracy of their trimming curves, so its mesh has hairline gaps along the
@@ -33,13 +34,10 @@
 #include <vector>
 
 #include "trivox/math.h"
+#include "trivox/mesh/sliced_mesh.h"
 #include "trivox/trim/trim.h"
 
 namespace trivox {
-
-struct ShellSegment {
-  double x0, y0, x1, y1;
-};
 
 class ShellMesh {
  public:
@@ -64,29 +62,26 @@ class ShellMesh {
   // Edges used by an odd number of triangles (0 for a closed shell; not counted for a gap
   // tolerant one, which is checked by its seams).
   std::size_t open_edges() const noexcept { return open_edges_; }
-  std::size_t triangle_count() const noexcept { return triangles_.size(); }
-  std::size_t vertex_count() const noexcept { return vertices_.size(); }
+  std::size_t triangle_count() const noexcept { return mesh_.triangle_count(); }
+  std::size_t vertex_count() const noexcept { return mesh_.vertex_count(); }
   int samples() const noexcept { return samples_; }
-  const Box3& bounds() const noexcept { return bounds_; }
+  const Box3& bounds() const noexcept { return mesh_.bounds(); }
+  // The triangles, their height buckets, cut() and slab().
+  const SlicedMesh& mesh() const noexcept { return mesh_; }
 
   // The same mesh with every vertex moved by `map` (for a parametric trim: through the
   // cell's volume, giving its outline in model space). Topology and tie rules are kept.
   ShellMesh mapped(const std::function<Vec3(Vec3)>& map) const;
 
-  // The cross-section at height z: one segment per triangle crossing the plane.
-  void cut(double z, std::vector<ShellSegment>& out) const;
-  // Every triangle that meets the slab z0 <= z <= z1, once each (its vertices).
-  void slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out) const;
   // Whether p lies inside by the even-odd rule (see above). Thread-safe.
   bool contains(Vec3 p) const;
 
  private:
   ShellMesh() = default;
-  void build_index();
+  // Makes mesh_ from the vertices and triangles, and the (y, z) cells of contains().
+  void build_index(std::vector<Vec3> vertices, std::vector<SlicedMesh::Triangle> triangles);
   void build_trimmed(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>* map,
                      double map_tolerance, int max_samples);
-  // The segment where triangle t crosses the plane z; false when it does not.
-  bool cut_triangle(int t, double z, ShellSegment& s) const;
 
   // Parity of the crossings beyond p of the line through p along (dx, dy) in the plane z =
   // p.z; false in `even` when the whole line is crossed an odd number of times.
@@ -94,23 +89,14 @@ class ShellMesh {
   int samples_ = 0;
   bool gap_tolerant_ = false;
   double seam_gap_ = 0;
-  std::vector<Vec3> vertices_;
-  std::vector<std::array<int, 3>> triangles_;
   std::size_t open_edges_ = 0;
-  Box3 bounds_;
-  // Triangles bucketed by height (cut) and by (y, z) cell (contains).
-  double z0_ = 0, dz_ = 1, y0_ = 0, dy_ = 1;
-  int nz_ = 1, ny_ = 1;
-  std::vector<std::vector<int>> z_buckets_;
+  SlicedMesh mesh_;
+  // Triangles by (y, z) cell, for contains(): ny_ x ny_ cells over the mesh's box.
+  double z0_ = 0, dzc_ = 1, y0_ = 0, dy_ = 1;
+  int ny_ = 1;
   std::vector<std::vector<int>> yz_cells_;
+  // The cell of (y, z), clamped to the grid.
+  std::size_t yz_cell(double y, double z) const noexcept;
 };
-
-// Where the line y = yc crosses a cut segment, by the rule of ShellMesh::contains (each
-// endpoint at or above yc counts as above); false when it does not cross.
-inline bool crosses_row(const ShellSegment& s, double yc, double& x) noexcept {
-  if ((s.y0 >= yc) == (s.y1 >= yc)) return false;
-  x = s.x0 + (yc - s.y0) / (s.y1 - s.y0) * (s.x1 - s.x0);
-  return true;
-}
 
 }  // namespace trivox

@@ -1,9 +1,10 @@
-// Tells ThreadSanitizer about the ordering oneTBB guarantees but TSan cannot see.
+// Tells ThreadSanitizer about the ordering oneTBB guarantees but TSan cannot see (used by
+// the parallel seam, parallel.cpp, only).
 //
 // Debian's libtbb is not built with TSan, so the hand-off of a task to a worker and the
 // return of parallel_for after its last task happen inside uninstrumented code: TSan would
 // report every read a worker makes of data the caller wrote before parallel_for (and every
-// read after it of what the workers wrote) as a race. The job marks the two hand-offs with
+// read after it of what the workers wrote) as a race. The seam marks the two hand-offs with
 // TsanHandoff: the caller publishes before starting the tasks, each task receives at its
 // start and publishes at its end, the caller receives after they all finished. Tasks never
 // receive each other's publications, so a true race between two layers is still reported.
