@@ -11,8 +11,11 @@ times of the whole process, so reading the scene and building its volumes are in
     bench/paper_models.py [--trivox build/release/bin/trivox] [--runs 3] [--threads 0]
                           [--models chalice,teapot,duck] [--work DIR]
 
-The teapot and the duck are built from surfaces in ../shared/data; without it they are
-skipped with a message. A fourth model, duck-paper-size (not run unless named), is the duck
+Every model is sliced for the "j750-paper" printer, the J750 with the paper's 30 um layers,
+so that the rows compare with the paper's: the teapot and the duck name it in their scenes;
+the bundled chalice prints at the J750's 27 um High Mix layer, so its scene is written into the
+scratch folder with the printer set to "j750-paper". The teapot and the duck are built from
+surfaces in ../shared/data; without it they are skipped with a message. A fourth model, duck-paper-size (not run unless named), is the duck
 scaled so that it holds as many inside voxels as the paper's duck (2.69e9): the bundled duck
 (scale 45, 1.0089e9 inside voxels) scaled by (2.69 / 1.0089)^(1/3) = 1.387, placement scale
 62.4; its scene is written into the scratch folder with the model path made absolute. Run on
@@ -50,6 +53,20 @@ def absolute_files(node, scene_dir):
     return node
 
 
+def paper_profile_chalice(work):
+    """Writes the chalice for the paper's 30 um layers; returns the scene's path."""
+    source = os.path.join(ROOT, MODELS["chalice"][0])
+    with open(source, encoding="utf-8") as f:
+        scene = absolute_files(json.load(f), os.path.dirname(source))
+    scene.pop("$schema", None)
+    scene["printer"] = "j750-paper"
+    os.makedirs(work, exist_ok=True)
+    path = os.path.join(work, "chalice_paper.json")
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(scene, f, indent=1)
+    return path
+
+
 def paper_size_duck(work):
     """Writes the duck scaled to the paper's inside-voxel count; returns the scene's path."""
     source = os.path.join(ROOT, MODELS["duck"][0])
@@ -83,7 +100,12 @@ def main() -> int:
             print(f"paper_models: {name} skipped: it is built from ../shared/data, which is absent",
                   file=sys.stderr)
             continue
-        scene_path = paper_size_duck(work) if name == "duck-paper-size" else os.path.join(ROOT, scene)
+        if name == "duck-paper-size":
+            scene_path = paper_size_duck(work)
+        elif name == "chalice":
+            scene_path = paper_profile_chalice(work)
+        else:
+            scene_path = os.path.join(ROOT, scene)
         walls = []
         stats = None
         for _ in range(args.runs):

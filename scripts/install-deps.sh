@@ -2,7 +2,13 @@
 # Installs the Debian 12 (bookworm) packages that building and testing trivox needs. Runs
 # apt-get only when a package is missing, so running it again costs one dpkg-query per
 # package. Nothing else is ever downloaded: the build and the tests use these packages only.
+#
+# `scripts/install-deps.sh --optional` also installs the optional packages: prusa-slicer
+# (large), whose `--export-sla` archives tests/tools/check_sl1_archive.py compares trivox's
+# SL1/SL1S archives with; that check is skipped where it is absent.
 set -euo pipefail
+
+optional=(prusa-slicer)
 
 packages=(
   build-essential cmake ninja-build pkg-config
@@ -18,6 +24,10 @@ packages=(
   # the format check of CI (scripts/check_format.sh)
   clang-format
 )
+
+if [ "${1:-}" = "--optional" ]; then
+  packages+=("${optional[@]}")
+fi
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "install-deps: dpkg-query not found: this script installs Debian packages (Debian 12 bookworm)." >&2

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Makes the preview images of docs/EXAMPLES.md with trivox itself, from the scenes in the
-# repository: the chalice and every scene of examples/scenes always; the teapot, the duck and
+# repository: the chalice and every scene of examples/scenes always (for the greyscale column,
+# its grey layer images); the teapot, the duck and
 # the scenes of examples/shared_scenes when ../shared (the real models they are built from) is
 # beside the repository. Writes docs/images/*.png; scratch output goes to out/doc_images/.
 # Build first (scripts/build.sh release trivox_cli).
@@ -22,23 +23,32 @@ one_layer() {
 # The chalice: every layer, for the contact sheet and the vertical cut through the stack;
 # three layers at full resolution: the knot in the base, the knot's five passes through the
 # stem, the knot in the cup's bottom.
-"$trivox" slice examples/scenes/chalice.json -o "$scratch/chalice" --format preview --preview 80,250,400 -q
+"$trivox" slice examples/scenes/chalice.json -o "$scratch/chalice" --format preview --preview 89,278,444 -q
 cp "$scratch/chalice/preview/cut_xz.png" docs/images/chalice_cut_xz.png
 cp "$scratch/chalice/preview/contact_sheet.png" docs/images/chalice_contact_sheet.png
-for layer in 80 250 400; do
+for layer in 89 278 444; do
   cp "$scratch/chalice/preview/layer_$(printf %05d "$layer").png" "docs/images/chalice_layer_${layer}.png"
 done
 
 # The other bundled scenes, one layer each (mostly the middle one).
-one_layer examples/scenes/boolean_pair.json 167 boolean_pair
-one_layer examples/scenes/box_gradient.json 167 box_gradient
-one_layer examples/scenes/column_scalar_gradient.json 600 column_scalar_gradient
+one_layer examples/scenes/boolean_pair.json 186 boolean_pair
+one_layer examples/scenes/box_gradient.json 186 box_gradient
+one_layer examples/scenes/column_scalar_gradient.json 667 column_scalar_gradient
 one_layer examples/scenes/cylinder_sector_curves.json 1429 cylinder_sector_curves
-one_layer examples/scenes/dithering_skin.json 34 dithering_skin
+one_layer examples/scenes/dithering_skin.json 38 dithering_skin
 one_layer examples/scenes/expression_layers.json 185 expression_layers
-one_layer examples/scenes/quick_start.json 101 quick_start
-one_layer examples/scenes/texture_composition.json 34 texture_composition
-one_layer examples/scenes/twisted_column_porous.json 1095 twisted_column_porous
+one_layer examples/scenes/quick_start.json 112 quick_start
+one_layer examples/scenes/texture_composition.json 38 texture_composition
+one_layer examples/scenes/twisted_column_porous.json 1217 twisted_column_porous
+
+# The greyscale column for the SL1S: the grey layers themselves (greyscale/), at a tenth, half
+# and nine tenths of the height.
+for layer in 120 600 1080; do
+  "$trivox" slice examples/scenes/column_greyscale_sl1s.json -o "$scratch/column_greyscale_sl1s_$layer" \
+    --layers "$layer:$layer" --format greyscale --min-layers 0 -q
+  cp "$scratch/column_greyscale_sl1s_$layer/greyscale/slice_00001.png" \
+    "docs/images/column_greyscale_sl1s_layer_${layer}.png"
+done
 
 if [ -d ../shared/data ]; then
   # The teapot: two single layers (the full stack takes minutes), through the spout and

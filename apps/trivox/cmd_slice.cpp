@@ -132,6 +132,7 @@ void run(const SliceOptions& so) {
   job.manifest_interval_seconds = so.manifest_interval_s;
 
   const Scene scene = read_scene(o.scene, &g_stop);
+  warn_about_printer(scene);
   SliceParams params = slice_params_of(o, scene);
   params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);
@@ -156,7 +157,7 @@ void run(const SliceOptions& so) {
                d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
   }
   // Warnings go to standard error even with -q: they are about the result, not progress.
-  for (const std::string& w : colour_warnings(scene, job.background_rgba))
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job)))
     fmt::print(stderr, "trivox: warning: {}\n", w);
   TerminalProgress progress(so.quiet);
   // A job that fails on its input part way leaves no partial stack behind; one that fails

@@ -1,5 +1,7 @@
 #include "job_options.h"
 
+#include <array>
+
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -72,16 +74,30 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("--skin", o.skin_voxels, "Outer voxels of each layer that take the nearest pure material, undithered");
   cmd.add_option("--vary-by-layer", o.vary_by_layer,
                  "Change the dithering pattern with the layer index: true or false (default: the scene's, else true)");
-  cmd.add_option(
-         "--format", o.formats,
-         "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), legacy (1-bit BMPs), tiff "
-         "(multi-page TIFF), "
-         "vdb (OpenVDB grid per material), gcvf (GrabCAD Voxel Print package), preview (contact sheet and cuts)")
+  cmd.add_option("--format", o.formats,
+                 "Outputs: voxelprint (RGBA PNG stack), bitmaps (1-bit PNG per material), legacy (1-bit BMPs), tiff "
+                 "(multi-page TIFF), vdb (OpenVDB grid per material), gcvf (GrabCAD Voxel Print package), greyscale "
+                 "(8-bit PNG stack for resin printers), sl1, sl1s (Prusa SL1/SL1S archive), preview (contact sheet and "
+                 "cuts)")
       ->delimiter(',')
       ->check(CLI::IsMember(layer_writer_names()))
       ->capture_default_str();
   cmd.add_option("--prefix", o.prefix, "File-name prefix of the layer images")->capture_default_str();
-  cmd.add_option("--background", o.background, "Background colour R,G,B,A")->delimiter(',')->capture_default_str();
+  cmd.add_option("--background", o.background,
+                 "Background colour R,G,B (opaque; R,G,B,255 too) of the printer images (default: black, or the "
+                 "first free of white and the greys when a material is black)")
+      ->delimiter(',');
+  cmd.add_option("--gcvf-names", o.gcvf_names,
+                 "Material names in the gcvf package's ConfigFile.xml: codes (the Stratasys codes where known, "
+                 "e.g. VeroCY-V) or scene (as the scene names them)")
+      ->check(CLI::IsMember({"codes", "scene"}))
+      ->capture_default_str();
+  cmd.add_flag("--gcvf-all-materials", o.gcvf_all_materials,
+               "List every material in the gcvf package, also those with no voxel (default: left out)");
+  cmd.add_option("--gcvf-extras", o.gcvf_extras,
+                 "Extra members of the gcvf package: stl (model.stl, the cells' boundary), bbox (bounding_box.txt)")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"stl", "bbox"}));
   cmd.add_option("--min-layers", o.min_layers, "Pad with empty layers up to this count")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
@@ -132,10 +148,22 @@ JobParams job_params_of(const JobOptions& o) {
   job.formats = o.formats;
   job.prefix = o.prefix;
   job.min_layers = o.min_layers;
-  if (o.background.size() != 4) throw UsageError("--background takes four numbers R,G,B,A");
-  for (std::size_t i = 0; i < 4; ++i) {
-    if (o.background[i] < 0 || o.background[i] > 255) throw UsageError("--background values are 0..255");
-    job.background_rgba[i] = static_cast<std::uint8_t>(o.background[i]);
+  if (!o.background.empty()) {
+    if (o.background.size() != 3 && o.background.size() != 4)
+      throw UsageError("--background takes three numbers R,G,B (or R,G,B,255)");
+    std::array<std::uint8_t, 4> rgba{0, 0, 0, 255};
+    for (std::size_t i = 0; i < o.background.size(); ++i) {
+      if (o.background[i] < 0 || o.background[i] > 255) throw UsageError("--background values are 0..255");
+      rgba[i] = static_cast<std::uint8_t>(o.background[i]);
+    }
+    if (rgba[3] != 255) throw UsageError("--background: printer images are opaque, so its alpha must be 255");
+    job.background_rgba = rgba;
+  }
+  job.gcvf.material_codes = o.gcvf_names == "codes";
+  job.gcvf.omit_unused = !o.gcvf_all_materials;
+  for (const std::string& extra : o.gcvf_extras) {
+    if (extra == "stl") job.gcvf.mesh_stl = true;
+    if (extra == "bbox") job.gcvf.bounding_box = true;
   }
   parse_layers(o.layers, job);
   for (int layer : o.preview_layers) {
@@ -144,6 +172,11 @@ JobParams job_params_of(const JobOptions& o) {
   }
   parse_shard(o.shard, job);
   return job;
+}
+
+void warn_about_printer(const Scene& scene) {
+  if (const auto warning = layer_thickness_warning(scene.printer))
+    fmt::print(stderr, "trivox: warning: {}\n", *warning);
 }
 
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {

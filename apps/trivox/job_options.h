@@ -33,7 +33,10 @@ struct JobOptions {
   std::optional<bool> vary_by_layer;           // unset: the scene's
   std::vector<std::string> formats{"voxelprint"};
   std::string prefix = "slice_";
-  std::vector<int> background{255, 255, 255, 255};
+  std::vector<int> background;  // empty: automatic (JobParams::background_rgba)
+  std::string gcvf_names = "codes";
+  bool gcvf_all_materials = false;
+  std::vector<std::string> gcvf_extras;
   int min_layers = 30;
   std::vector<int> preview_layers;  // 1-based
   std::string shard;
@@ -48,6 +51,10 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required);
 // settings); throws UsageError for values CLI11 cannot check.
 SliceParams slice_params_of(const JobOptions& o, const Scene& scene);
 JobParams job_params_of(const JobOptions& o);
+
+// Prints "trivox: warning: ..." on standard error for a printer profile whose layer
+// thickness no print mode of its family prints (printer_profile.h).
+void warn_about_printer(const Scene& scene);
 
 // The memory limit the checks use, in bytes.
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o);

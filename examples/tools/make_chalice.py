@@ -147,7 +147,7 @@ scene = {"$schema": "../../docs/scene.schema.json", "version": 1,
                   "cup never meet, so the regions of both and of all three are empty (void). Clear material with "
                   "coloured curves twisting through every cell's parametric domain. 27 mm tall, 23 mm wide "
                   "(examples/tools/make_chalice.py writes this file)."),
-  "units": "mm", "printer": "j750-paper",
+  "units": "mm", "printer": "j750-hm",
   "materials": [{"name": "VeroClear", "rgba": [235, 240, 242, 40]}, {"name": "VeroCyan", "rgba": [0, 160, 227, 255]},
                 {"name": "VeroMagenta", "rgba": [236, 0, 140, 255]}, {"name": "VeroYellow", "rgba": [255, 237, 0, 255]}],
   "volumes": volumes,

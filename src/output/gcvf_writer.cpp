@@ -20,6 +20,7 @@
 #include "output/zip_writer.h"
 #include "trivox/error.h"
 #include "trivox/output/atomic_file.h"
+#include "trivox/printer/material_library.h"
 
 namespace trivox::detail {
 
@@ -96,7 +97,10 @@ class GcvfWriter final : public LayerWriter {
     const std::uint64_t name_bytes = image_name(c_.total_layers - 1).size();
     // Voxel counts of the whole stack have up to 15 digits; the samples' fewer.
     const std::uint64_t config = config_xml().size() + 16 * c_.material_names.size();
-    cost.file_bytes = cost.scratch_bytes + slices * (30 + 46 + 2 * name_bytes) + config + 2 * 14 + 30 + 46 + 22;
+    std::uint64_t extras = 0;
+    for (const auto& [member, bytes] : c_.gcvf.extras) extras += bytes.size() + 30 + 46 + 2 * member.size();
+    cost.file_bytes =
+        cost.scratch_bytes + slices * (30 + 46 + 2 * name_bytes) + config + 2 * 14 + 30 + 46 + 22 + extras;
     std::uint64_t largest_png = 0;
     for (int index : sampling.model_samples) largest_png = std::max(largest_png, spool_->size(index));
     cost.memory_bytes = largest_png + slices * palette_.size() * sizeof(std::int64_t);  // one PNG, the voxel counts
@@ -111,6 +115,7 @@ class GcvfWriter final : public LayerWriter {
     ZipWriter zip(out.file(), target.string());
     for (int i = 0; i < c_.total_layers; ++i) zip.add(image_name(i), spool_->get(i));
     zip.add("ConfigFile.xml", config_xml());
+    for (const auto& [member, bytes] : c_.gcvf.extras) zip.add(member, bytes);
     zip.finish();
     out.commit();
     return {file};
@@ -119,6 +124,15 @@ class GcvfWriter final : public LayerWriter {
  private:
   // Slices are numbered from StartIndex (0) without padding, as the public packages do.
   std::string image_name(int index) const { return fmt::format("{}{}.png", c_.prefix, index); }
+
+  // The name ConfigFile.xml gives material j: its Stratasys code where one is known and
+  // wanted, else the scene's name.
+  std::string material_name(std::size_t j) const {
+    if (c_.gcvf.material_codes && j < c_.material_library.size() && !c_.material_library[j].empty())
+      if (const auto m = find_library_material(c_.material_library[j]); m && !m->code.empty())
+        return std::string(m->code);
+    return c_.material_names[j];
+  }
 
   std::string config_xml() const {
     std::vector<std::int64_t> total(palette_.size(), 0);
@@ -149,10 +163,11 @@ class GcvfWriter final : public LayerWriter {
     x += "    <CreationMode>MODEL_ONLY</CreationMode>\n";
     x += fmt::format("    <ImageFilePrefix>{}</ImageFilePrefix>\n", xml_escaped(c_.prefix));
     x += "    <MaterialList>\n";
-    x += fmt::format("        <BackGroundMaterialRGBA>{}</BackGroundMaterialRGBA>\n", rgba_text(c_.background_rgba));
+    x += fmt::format("        <BackGroundMaterialRGBA>{}</BackGroundMaterialRGBA>\n", rgba_text(palette_[0]));
     for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
+      if (c_.gcvf.omit_unused && total[j + 1] == 0) continue;  // as the later public writer does
       x += "        <Material>\n";
-      x += fmt::format("            <Name>{}</Name>\n", xml_escaped(c_.material_names[j]));
+      x += fmt::format("            <Name>{}</Name>\n", xml_escaped(material_name(j)));
       x += fmt::format("            <RGBA>{}</RGBA>\n", rgba_text(palette_[j + 1]));
       x += fmt::format("            <VoxelCount>{}</VoxelCount>\n", total[j + 1]);
       x += "        </Material>\n";

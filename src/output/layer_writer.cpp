@@ -11,6 +11,20 @@
 
 namespace trivox {
 
+std::vector<std::string> write_layer_to(const LayerWriter& writer, int index, const LabelImage& labels,
+                                        const GreyImage& grey) {
+  return writer.takes_grey() ? writer.write_grey_layer(index, labels, grey) : writer.write_layer(index, labels);
+}
+
+GreyImage exposure_of(const LabelImage& labels, const GreyImage& grey) {
+  if (grey.width_px() == labels.width_px() && grey.height_px() == labels.height_px() && !grey.values().empty())
+    return grey;
+  GreyImage out(labels.width_px(), labels.height_px(), 0);
+  std::transform(labels.values().begin(), labels.values().end(), out.values().begin(),
+                 [](std::uint8_t l) { return static_cast<std::uint8_t>(l != LabelImage::kVoid ? 255 : 0); });
+  return out;
+}
+
 std::string layer_number(int index, int total_layers) {
   const int digits = std::max(5, static_cast<int>(fmt::format("{}", total_layers).size()));
   return fmt::format("{:0{}d}", index + 1, digits);
@@ -31,15 +45,25 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 
 namespace detail {
 
+std::array<std::uint8_t, 4> opaque(std::array<std::uint8_t, 4> rgba) {
+  rgba[3] = 255;
+  return rgba;
+}
+
 std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context) {
+  // Printer images are opaque: a material's alpha (its transparency) is shown in previews
+  // only, as the public Voxel Print packages do.
+  std::vector<std::array<std::uint8_t, 4>> palette = {opaque(context.background_rgba)};
+  for (const auto& c : context.material_rgba) palette.push_back(opaque(c));
   // Colour-exact output needs one distinct colour per material and for the background.
-  std::vector<std::array<std::uint8_t, 4>> all = context.material_rgba;
-  all.push_back(context.background_rgba);
-  std::sort(all.begin(), all.end());
-  if (std::adjacent_find(all.begin(), all.end()) != all.end())
-    throw Error("Voxel Print output needs a distinct RGBA colour for every material and for the background");
-  std::vector<std::array<std::uint8_t, 4>> palette = {context.background_rgba};
-  palette.insert(palette.end(), context.material_rgba.begin(), context.material_rgba.end());
+  for (std::size_t a = 0; a < palette.size(); ++a)
+    for (std::size_t b = a + 1; b < palette.size(); ++b)
+      if (palette[a] == palette[b])
+        throw Error(fmt::format(
+            "Voxel Print output needs a distinct colour for every material and for the background (opaque: the "
+            "alpha is not part of the image colour), but {} and {} are both #{:02X}{:02X}{:02X}",
+            a == 0 ? std::string("the background") : "material '" + context.material_names[a - 1] + "'",
+            "material '" + context.material_names[b - 1] + "'", palette[a][0], palette[a][1], palette[a][2]));
   return palette;
 }
 
@@ -130,6 +154,9 @@ constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"tiff", detail::make_tiff_stack_writer, true},
     {"vdb", detail::make_vdb_writer, true},
     {"gcvf", detail::make_gcvf_writer, true},
+    {"greyscale", detail::make_greyscale_stack_writer, false},
+    {"sl1", detail::make_sl1_writer, true},
+    {"sl1s", detail::make_sl1s_writer, true},
     {"preview", detail::make_preview_writer, true},
 };
 

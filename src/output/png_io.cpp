@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <csetjmp>
 #include <cstdio>
 #include <cstdlib>
@@ -112,6 +113,7 @@ struct PngWriteJob {
   int filter_mask;
   const png_color* palette;  // colour type 3: PLTE entries (owned by the caller)
   int palette_size;
+  png_uint_32 ppm_x, ppm_y;  // pHYs, pixels per metre; 0: none
   PngMessage error;
 };
 
@@ -138,6 +140,7 @@ bool write_png_core(PngWriteJob* job) noexcept {
   png_set_IHDR(png, info, job->width, job->height, job->bit_depth, job->color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_BASE, PNG_FILTER_TYPE_BASE);
   if (job->palette_size > 0) png_set_PLTE(png, info, job->palette, job->palette_size);
+  if (job->ppm_x > 0 && job->ppm_y > 0) png_set_pHYs(png, info, job->ppm_x, job->ppm_y, PNG_RESOLUTION_METER);
   png_write_info(png, info);
   for (png_uint_32 y = 0; y < job->height; ++y) {
     if (job->rows == nullptr) {
@@ -259,6 +262,8 @@ void write_png(const std::filesystem::path& path, const PngWriteParams& params, 
   job.zlib_level = params.zlib_level;
   job.zlib_strategy = zlib_strategy(params.strategy);
   job.filter_mask = png_filter_mask(params.filter);
+  job.ppm_x = params.pixels_per_metre_x;
+  job.ppm_y = params.pixels_per_metre_y;
   job.error.text[0] = '\0';
   errno = 0;
   if (!write_png_core(&job)) {
@@ -294,6 +299,19 @@ void PngWriteParams::validate() const {
   if (zlib_strategy(strategy) < 0) {
     throw Error(fmt::format("png params: strategy = {} is not a known zlib strategy", static_cast<int>(strategy)));
   }
+  if ((pixels_per_metre_x == 0) != (pixels_per_metre_y == 0)) {
+    throw Error(fmt::format("png params: pHYs needs both densities or neither, got {} x {} pixels per metre",
+                            pixels_per_metre_x, pixels_per_metre_y));
+  }
+}
+
+std::uint32_t pixels_per_metre(double pitch_mm) {
+  if (!(pitch_mm > 0) || !std::isfinite(pitch_mm))
+    throw Error(fmt::format("png params: a pixel pitch of {} mm has no density", pitch_mm));
+  const double ppm = std::round(1000.0 / pitch_mm);
+  if (ppm < 1 || ppm > 2147483647.0)
+    throw Error(fmt::format("png params: {} pixels per metre (pitch {} mm) is outside pHYs's range", ppm, pitch_mm));
+  return static_cast<std::uint32_t>(ppm);
 }
 
 void write_png_rgba(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> rgba,
@@ -321,23 +339,22 @@ void write_png_rgba(const std::filesystem::path& path, const RgbaImage& image, c
   write_png_rgba(path, image.width_px, image.height_px, image.rgba, params);
 }
 
-std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,
-                            const PngWriteParams& params) {
-  params.validate();
+namespace {
+
+// The bytes of a PNG written by write_png_core into a memory stream: those of the file.
+std::string encode_png(const PngWriteParams& params, PngWriteJob job) {
   const std::filesystem::path what("<PNG in memory>");
-  check_size(what, width_px, height_px, 4, rgba.size());
-  // The same libpng calls as write_png, into a memory stream: the bytes are those of the file.
   char* buffer = nullptr;
   std::size_t size = 0;
   std::FILE* stream = ::open_memstream(&buffer, &size);
   if (stream == nullptr)
     throw IoError(fmt::format("{}: cannot open a memory stream: {}", what.string(), errno_text(errno)));
-  PngWriteJob job =
-      make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8, PNG_COLOR_TYPE_RGBA);
   job.file = stream;
   job.zlib_level = params.zlib_level;
   job.zlib_strategy = zlib_strategy(params.strategy);
   job.filter_mask = png_filter_mask(params.filter);
+  job.ppm_x = params.pixels_per_metre_x;
+  job.ppm_y = params.pixels_per_metre_y;
   job.error.text[0] = '\0';
   const bool ok = write_png_core(&job);
   const bool closed = std::fclose(stream) == 0;
@@ -346,6 +363,24 @@ std::string encode_png_rgba(int width_px, int height_px, std::span<const std::ui
   std::free(buffer);
   if (!ok || !closed) throw IoError(fmt::format("{}: cannot encode PNG: {}", what.string(), job.error.text));
   return bytes;
+}
+
+}  // namespace
+
+std::string encode_png_rgba(int width_px, int height_px, std::span<const std::uint8_t> rgba,
+                            const PngWriteParams& params) {
+  params.validate();
+  check_size("<PNG in memory>", width_px, height_px, 4, rgba.size());
+  return encode_png(params, make_job(rgba.data(), static_cast<std::size_t>(width_px) * 4, width_px, height_px, 8,
+                                     PNG_COLOR_TYPE_RGBA));
+}
+
+std::string encode_png_gray8(int width_px, int height_px, std::span<const std::uint8_t> gray,
+                             const PngWriteParams& params) {
+  params.validate();
+  check_size("<PNG in memory>", width_px, height_px, 1, gray.size());
+  return encode_png(
+      params, make_job(gray.data(), static_cast<std::size_t>(width_px), width_px, height_px, 8, PNG_COLOR_TYPE_GRAY));
 }
 
 void write_png_indexed(const std::filesystem::path& path, int width_px, int height_px,

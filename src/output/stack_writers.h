@@ -25,8 +25,17 @@ std::unique_ptr<LayerWriter> make_vdb_writer(const OutputContext& context);
 // "gcvf": the Voxel Print PNGs and ConfigFile.xml zipped into gcvf/stack.gcvf (gcvf_writer.cpp).
 std::unique_ptr<LayerWriter> make_gcvf_writer(const OutputContext& context);
 
+// "greyscale": one 8-bit greyscale PNG per layer with pHYs (greyscale_writers.cpp).
+std::unique_ptr<LayerWriter> make_greyscale_stack_writer(const OutputContext& context);
+// "sl1", "sl1s": a Prusa SL1 / SL1S print archive (greyscale_writers.cpp).
+std::unique_ptr<LayerWriter> make_sl1_writer(const OutputContext& context);
+std::unique_ptr<LayerWriter> make_sl1s_writer(const OutputContext& context);
+
+// An opaque copy of a colour (alpha 255).
+std::array<std::uint8_t, 4> opaque(std::array<std::uint8_t, 4> rgba);
 // The Voxel Print colour of every label (index = label: the background, then the materials).
-// Throws Error unless every material and the background have distinct RGBA colours.
+// Every colour is opaque (alpha 255; a material's alpha is for previews). Throws Error unless
+// every material and the background have distinct colours.
 std::vector<std::array<std::uint8_t, 4>> voxelprint_palette(const OutputContext& context);
 // The 8-bit RGBA pixels of `labels` in `palette`'s colours, row-major, top row first.
 std::vector<std::uint8_t> voxelprint_rgba(const LabelImage& labels,

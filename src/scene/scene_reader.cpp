@@ -132,21 +132,25 @@ PrinterProfile builtin(const JsonView& name) {
 
 PrinterProfile parse_printer(const JsonView& node) {
   if (node.is_string()) return builtin(node);
-  node.expect_object({"name", "base", "x_dpi", "y_dpi", "layer_thickness_mm", "max_materials"});
+  node.expect_object({"name", "base", "x_dpi", "y_dpi", "pixel_mm", "layer_thickness_mm", "max_materials"});
   PrinterProfile p;
   const auto base = node.find("base");
+  const auto pixel = node.find("pixel_mm");
+  if (pixel && (node.find("x_dpi") || node.find("y_dpi")))
+    pixel->fail("give either \"pixel_mm\" (square pixels) or \"x_dpi\" and \"y_dpi\", not both");
   if (base) {
     p = builtin(*base);
   } else {
     p.name = "custom";
     for (std::string_view key : {"x_dpi", "y_dpi", "layer_thickness_mm", "max_materials"})
-      if (!node.find(key))
+      if (!node.find(key) && !(pixel && (key == "x_dpi" || key == "y_dpi")))
         node.fail(
             fmt::format("the required key \"{}\" is missing (or give a built-in profile as "
                         "\"base\")",
                         key));
   }
   if (const auto v = node.find("name")) p.name = v->string();
+  if (pixel) p.x_dpi = p.y_dpi = 25.4 / positive(*pixel);
   if (const auto v = node.find("x_dpi")) p.x_dpi = positive(*v);
   if (const auto v = node.find("y_dpi")) p.y_dpi = positive(*v);
   if (const auto v = node.find("layer_thickness_mm")) p.layer_thickness_mm = positive(*v);
@@ -259,6 +263,42 @@ DitherParams parse_dithering(const JsonView& node) {
   if (const auto v = node.find("vary_by_layer")) params.vary_by_layer = v->boolean();
   if (const auto k = node.find("skin_voxels")) params.skin_voxels = k->integer_in(0, DitherParams::kMaxSkinVoxels);
   return params;
+}
+
+// "greyscale": {"source": {"material": NAME} or a scalar source, "curve": [[value, grey], ...],
+// "antialiasing": k, "exposure_s": s, "initial_exposure_s": s}. A scalar source is built for each cell (over the cell's
+// domain) once the cells are read.
+void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
+  node.expect_object({"source", "curve", "antialiasing", "exposure_s", "initial_exposure_s"});
+  GreyscaleDef def;
+  const JsonView source = node.at("source");
+  const bool material_source = source.is_object() && source.find("material");
+  if (material_source) {
+    source.expect_object({"material"});
+    const JsonView name = source.at("material");
+    def.material = scene.material_index(name.string());
+    if (def.material < 0)
+      name.fail(
+          fmt::format("\"{}\" is not a declared material (the greyscale source names one material, not "
+                      "\"void\")",
+                      name.string()));
+  }
+  std::vector<GreyPoint> points;
+  for (const JsonView& pair : node.at("curve").elements(1)) {
+    const std::vector<JsonView> vg = pair.elements(2, 2);
+    points.push_back({vg[0].number(), vg[1].number()});
+  }
+  try {
+    def.curve = GreyCalibration(std::move(points));
+  } catch (const Error& e) {
+    node.at("curve").fail(e.what());
+  }
+  if (const auto k = node.find("antialiasing")) def.antialiasing = k->integer_in(1, 8);
+  if (const auto e = node.find("exposure_s")) def.exposure_s = positive(*e);
+  if (const auto e = node.find("initial_exposure_s")) def.initial_exposure_s = positive(*e);
+  if (!material_source)
+    for (Cell& cell : scene.cells) cell.grey_source = detail::parse_scalar(source, ctx, cell.volume.domain());
+  scene.greyscale = std::move(def);
 }
 
 // A cell whose Jacobian determinant changes sign folds over itself: some points have
@@ -431,7 +471,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
   top.expect_object({"$schema", "version", "description", "units", "printer", "materials", "fraction_sums", "dithering",
-                     "volumes", "cells", "unions"});
+                     "greyscale", "volumes", "cells", "unions"});
   if (const auto v = top.find("version"); v && v->integer() != 1)
     v->fail(fmt::format("this is scene format version {}; trivox reads version 1", v->integer()));
   if (const auto d = top.find("description")) d->string();
@@ -460,6 +500,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   if (cells) parse_cells(*cells, ctx, scene);
   if (unions)
     for (const JsonView& u : unions->elements(1)) parse_union(u, ctx, scene);
+  if (const auto g = top.find("greyscale")) parse_greyscale(*g, ctx, scene);
   scene.input_files = ctx.input_files();
   fingerprint(root, scene);
   return scene;

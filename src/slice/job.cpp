@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
+#include "job_outputs.h"
 #include "job_parts.h"
 #include "job_resume.h"
 #include "trivox/error.h"
@@ -67,29 +68,6 @@ LayerRange layer_range(const SliceLayout& L, const JobParams& params) {
   return r;
 }
 
-OutputContext job_output_context(const Slicer& slicer, const JobParams& params, const std::filesystem::path& dir) {
-  const SliceLayout& L = slicer.layout();
-  const LayerRange range = layer_range(L, params);
-  OutputContext ctx;
-  ctx.dir = dir;
-  for (const MaterialDef& m : slicer.scene().materials) {
-    ctx.material_names.push_back(m.name);
-    ctx.material_rgba.push_back(m.rgba);
-  }
-  ctx.background_rgba = params.background_rgba;
-  ctx.prefix = params.prefix;
-  ctx.total_layers = range.total();
-  ctx.model_layers = range.count;
-  ctx.pitch_x_mm = L.pitch_x_mm;
-  ctx.pitch_y_mm = L.pitch_y_mm;
-  ctx.layer_mm = L.layer_mm;
-  ctx.x0_mm = L.x0_mm;
-  ctx.y_top_mm = L.y_top_mm;
-  ctx.z0_mm = L.z0_mm + range.first * L.layer_mm;
-  ctx.png = params.png;
-  return ctx;
-}
-
 }  // namespace detail
 
 JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
@@ -119,7 +97,9 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"formats", fmt::format("{}", fmt::join(params.formats, ","))},
       {"preview_layers", fmt::format("{}", fmt::join(params.preview_layers, ","))},
       {"prefix", params.prefix},
-      {"background_rgba", rgba_text(params.background_rgba)},
+      {"background_rgba", rgba_text(job_background(scene, params))},
+      {"gcvf", fmt::format("names={} unused={} stl={} bbox={}", params.gcvf.material_codes ? "codes" : "scene",
+                           params.gcvf.omit_unused ? "omit" : "list", params.gcvf.mesh_stl, params.gcvf.bounding_box)},
       {"png_zlib_level", fmt::format("{}", params.png.zlib_level)},
       {"png_filter", std::string(to_string(params.png.filter))},
       {"png_strategy", std::string(to_string(params.png.strategy))},
@@ -149,6 +129,9 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(
         fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
+  if (params.background_rgba && (*params.background_rgba)[3] != 255)
+    throw Error(fmt::format("the background's alpha is {}: printer images are opaque, so it must be 255",
+                            (*params.background_rgba)[3]));
   const detail::LayerRange range = detail::layer_range(slicer.layout(), params);
   for (int layer : params.preview_layers)
     if (layer < range.first || layer > range.last)
@@ -188,7 +171,8 @@ class JobRun {
   // Records what was completed so that --resume redoes only the rest. The manifest may be
   // unwritable too (a full disk); the previous one then stands, which is still consistent.
   void mark_failed(const std::exception& e) noexcept;
-  std::vector<std::string> write_layer(int index, const LabelImage& labels, bool stacks_only) const;
+  std::vector<std::string> write_layer(int index, const LabelImage& labels, const GreyImage& grey,
+                                       bool stacks_only) const;
 
   const Slicer& slicer_;
   const JobParams& params_;
@@ -252,8 +236,8 @@ void JobRun::make_writers() {
   any_stack_ = std::any_of(writers_.begin(), writers_.end(), [](const auto& w) { return w->needs_whole_stack(); });
   if (any_stack_ && params_.shard_count > 1)
     throw Error(
-        "the stack formats (preview, tiff, vdb, gcvf) need every layer of the job in one run: slice them "
-        "without --shard");
+        "the stack formats (preview, tiff, vdb, gcvf, sl1, sl1s) need every layer of the job in one run: slice "
+        "them without --shard");
   // Stack writers see every model layer; those a resumed job keeps are sliced again for them
   // (the same labels, since a layer depends only on the scene, settings and its index).
   if (any_stack_)
@@ -262,16 +246,16 @@ void JobRun::make_writers() {
   write_manifest(manifest_path_, manifest_);
   // The colour-to-material sheet depends only on the scene and the settings: written first,
   // listed with the whole-job files when the job completes.
-  std::vector<MaterialSheetRow> sheet;
-  for (const MaterialDef& m : slicer_.scene().materials) sheet.push_back({m.name, m.library, m.rgba});
-  write_material_sheet(params_.output_dir / sheet_name_, params_.background_rgba, sheet);
+  write_material_sheet(params_.output_dir / sheet_name_, ctx.background_rgba,
+                       detail::job_material_sheet(slicer_.scene()));
 }
 
-std::vector<std::string> JobRun::write_layer(int index, const LabelImage& labels, bool stacks_only) const {
+std::vector<std::string> JobRun::write_layer(int index, const LabelImage& labels, const GreyImage& grey,
+                                             bool stacks_only) const {
   std::vector<std::string> written;
   for (const auto& w : writers_) {
     if (stacks_only && !w->needs_whole_stack()) continue;
-    auto files = w->write_layer(index, labels);
+    auto files = write_layer_to(*w, index, labels, grey);
     written.insert(written.end(), files.begin(), files.end());
   }
   return written;
@@ -295,14 +279,14 @@ void JobRun::slice_and_write(std::size_t t) {
   const SliceLayout& L = slicer_.layout();
   if (index >= range_.count) {  // a padding layer
     const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
-    std::vector<std::string> written = write_layer(index, empty, refed);
+    std::vector<std::string> written = write_layer(index, empty, GreyImage(), refed);
     if (!refed) record(index, std::move(written), std::nullopt);
     return;
   }
   std::optional<LayerResult> sliced = detail::slice_layer_unless_failed(slicer_, range_.first + index, failed_);
   if (!sliced) return;
   LayerResult& r = *sliced;
-  std::vector<std::string> written = write_layer(index, r.labels, refed);
+  std::vector<std::string> written = write_layer(index, r.labels, r.grey, refed);
   if (!refed) record(index, std::move(written), std::move(r.stats), printed_extent(r.labels, range_.first + index));
 }
 

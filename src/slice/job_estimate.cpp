@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "job_outputs.h"
 #include "job_parts.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
@@ -111,11 +112,11 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
 
-  auto encode = [&](int index, const LabelImage& labels) {
+  auto encode = [&](int index, const LayerResult& layer) {
     std::uint64_t bytes = 0;
     int files = 0;
     for (const auto& w : writers)
-      for (const std::string& name : w->write_layer(index, labels)) {
+      for (const std::string& name : write_layer_to(*w, index, layer.labels, layer.grey)) {
         bytes += std::filesystem::file_size(scratch / name);
         ++files;
       }
@@ -132,21 +133,21 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
     // Evenly spread: the middle of each of `samples` equal parts of the range.
     const int index = static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(e.model_layers) / (2 * samples));
     LayerResult r = slicer.slice_layer(first + index);
-    sample_bytes += encode(index, r.labels);
+    sample_bytes += encode(index, r);
     sample_stats.push_back(std::move(r.stats));
     sampling.model_samples.push_back(index);
   }
   const double per_layer = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / samples;
   std::uint64_t padding_bytes = 0;
   if (shard_padded > 0) {
-    padding_bytes = encode(e.model_layers, LabelImage(L.width_px, L.height_px, LabelImage::kVoid));
+    LayerResult padding;
+    padding.labels = LabelImage(L.width_px, L.height_px, LabelImage::kVoid);
+    padding_bytes = encode(e.model_layers, padding);
     sampling.padding_sample = e.model_layers;
   }
   // The whole-job files: the colour-to-material sheet, measured, and what the stack outputs
   // will write, hold on disk while the job runs and keep in memory, from the same samples.
-  std::vector<MaterialSheetRow> sheet;
-  for (const MaterialDef& mat : slicer.scene().materials) sheet.push_back({mat.name, mat.library, mat.rgba});
-  write_material_sheet(scratch / "materials.csv", params.background_rgba, sheet);
+  write_material_sheet(scratch / "materials.csv", ctx.background_rgba, detail::job_material_sheet(slicer.scene()));
   std::uint64_t whole_job_bytes = std::filesystem::file_size(scratch / "materials.csv");
   e.whole_job_files = 1;
   for (const auto& w : writers) {

@@ -133,7 +133,8 @@ int material_count(const JobManifest& m) {
 
 // Decodes a file whose size and hash match the manifest, by kind: every PNG, the 1-bit BMPs
 // of the legacy output, every page of a TIFF stack, every grid of an OpenVDB file and every
-// entry of a GrabCAD package (its PNGs decoded). Returns the problem, or "".
+// entry of a GrabCAD package or a Prusa SL1/SL1S archive (their PNGs decoded). Returns the
+// problem, or "".
 std::string decode_problem(const std::filesystem::path& path, const JobManifest& m) {
   const std::string ext = path.extension().string();
   const std::pair<int, int> size = bitmap_size(m);
@@ -176,6 +177,13 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
       if (package.images != m.total_layers)
         return fmt::format("{}: {} layer images, the job has {} layers", path.string(), package.images, m.total_layers);
       if (package.config_xml.empty()) return fmt::format("{}: no ConfigFile.xml", path.string());
+    } else if (ext == ".sl1" || ext == ".sl1s") {
+      // A Prusa print archive: every member against its CRC-32, every PNG decoded; one layer
+      // image per job layer besides the two thumbnails.
+      const GcvfPackageSummary archive = read_gcvf_package(path, [](const std::string&, const RgbaImage&) {});
+      if (archive.images - 2 != m.total_layers)
+        return fmt::format("{}: {} layer images, the job has {} layers", path.string(), archive.images - 2,
+                           m.total_layers);
     }
   } catch (const Error& e) {
     return e.what();

@@ -29,6 +29,12 @@ SliceLayout make_layout(const Box3& bounds, const PrinterProfile& printer) {
   };
   l.width_px = count(size.x, l.pitch_x_mm, "x", "x_dpi", printer.x_dpi);
   l.height_px = count(size.y, l.pitch_y_mm, "y", "y_dpi", printer.y_dpi);
+  if (printer.display) {
+    // A masked-resin printer's images are the bitmap centred on its display, as slicers
+    // centre the model on the bed: a bitmap of the display's parity lies on its pixel grid.
+    l.width_px += (printer.display->pixels_x - l.width_px) % 2 != 0 ? 1 : 0;
+    l.height_px += (printer.display->pixels_y - l.height_px) % 2 != 0 ? 1 : 0;
+  }
   l.num_layers = count(size.z, l.layer_mm, "z", "layer_thickness_mm", printer.layer_thickness_mm);
   const double layer_pixels = static_cast<double>(l.width_px) * l.height_px;
   if (layer_pixels > static_cast<double>(kMaxLayerPixels))

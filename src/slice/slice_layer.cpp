@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "check.h"
+#include "coverage.h"
 #include "slicer_parts.h"
 #include "trivox/material/material_function.h"
 #include "trivox/raster/dither.h"
@@ -29,6 +30,8 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   const auto owned_pixels = w.several_cells ? static_cast<std::size_t>(st.pixels_total) : 0;
   w.owner.assign(owned_pixels, -1);
   w.owner_gave_material.assign(owned_pixels, 0);
+  if (scene_.greyscale && scene_.greyscale->material < 0)
+    w.grey_values.assign(static_cast<std::size_t>(st.pixels_total), 0.0f);
 
   trace_trimming_volumes(w);
   cut_trimming_shells(w);
@@ -39,6 +42,11 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
   st.seconds_inverse += w.lap();
 
   detail::dither_checked_grid(w.buffers->grid, w.buffers->inside, dither_, result.labels, layer);
+  // Greyscale (coverage.h): every pixel's grey from the grid, the edge pixels' from sub-samples.
+  if (scene_.greyscale) {
+    result.grey = detail::grey_from_grid(w.buffers->grid, w.buffers->written, *scene_.greyscale, w.grey_values);
+    if (coverage_) coverage_->antialias(layer, result.grey);
+  }
   st.seconds_dither = w.lap();
   count_labels(result, w, owner_out);
   static_cast<TraceCounters&>(st) = w.counters;
@@ -222,6 +230,9 @@ void Slicer::paint_row(int ci, int r, const detail::TracedRow& row, LayerWork& w
   // Scene cells carry their material already wrapped in the scene's fraction policy
   // (CheckedMaterial); the copy into the grid below checks what reaches the dithering.
   cd.cell->material->evaluate_row(row.uvw, row.xyz, std::span<float>(w.fractions).first(n * m));
+  if (cd.cell->grey_source)
+    detail::grey_source_row(*cd.cell->grey_source, row, w.fractions, static_cast<int>(m), r, layout_.width_px,
+                            w.grey_values, w.grey_scratch);
   // A traced row's columns increase: its span is its first and last.
   auto& [first_written, last_written] = w.buffers->written[static_cast<std::size_t>(r)];
   const bool row_unwritten = first_written > last_written;

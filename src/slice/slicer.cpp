@@ -10,6 +10,7 @@
 
 #include "boundary_mesh.h"
 #include "check.h"
+#include "coverage.h"
 #include "slicer_parts.h"
 #include "trivox/error.h"
 #include "trivox/trim/shell_mesh.h"
@@ -84,6 +85,9 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(
   prepare_cells();
   lay_out(finest_pitch_mm);
   build_meshes(finest_pitch_mm);
+  // Greyscale: anti-aliased edges (coverage.h).
+  if (scene.greyscale && scene.greyscale->antialiasing > 1)
+    coverage_ = std::make_unique<detail::EdgeCoverage>(scene, params_, layout_);
 }
 
 Slicer::~Slicer() = default;
@@ -165,7 +169,9 @@ void Slicer::lay_out(double finest_pitch_mm) {
   Box3 bounds;
   for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->image);
   const double margin_mm = 0.25 * finest_pitch_mm;
-  const Vec3 grow{margin_mm, margin_mm, margin_mm};
+  // A masked-resin printer builds from its platform: the first layer starts at the model's
+  // bottom, as slicers for these printers lay it.
+  const Vec3 grow{margin_mm, margin_mm, scene_.printer.display ? 0.0 : margin_mm};
   if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
   layout_ = make_layout(bounds, scene_.printer);
 }

@@ -94,6 +94,9 @@ struct Slicer::LayerWork {
   detail::TracedRow kept;
   std::vector<float> fractions;
   TraceCounters counters;
+  // Greyscale from a scalar source (coverage.h): its value per pixel where a cell gives
+  // material, and scratch.
+  std::vector<float> grey_values{}, grey_scratch{};
 
   // The stage clock: lap() returns the seconds since the previous lap.
   std::chrono::steady_clock::time_point clock = std::chrono::steady_clock::now();

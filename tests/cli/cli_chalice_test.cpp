@@ -24,7 +24,7 @@ TEST(Chalice, WholeChaliceSlicesWithoutUnresolvedOrFoldedPixels) {
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json stats = nlohmann::json::parse(read_text(dir.path() / "stats.json"));
   const nlohmann::json& t = stats.at("total");
-  EXPECT_EQ(t.at("layers_sliced").get<int>(), 901);
+  EXPECT_EQ(t.at("layers_sliced").get<int>(), 1001);  // 27 mm in 0.027 mm High Mix layers
   EXPECT_EQ(t.at("unresolved_pixels").get<long>(), 0);
   EXPECT_EQ(t.at("folded_pixels").get<long>(), 0);
   const long inside = t.at("pixels_inside").get<long>();

@@ -140,7 +140,7 @@ TEST_F(CliJob, ResumeOfAnotherJobIsRefusedWithTheDifference) {
   ScratchDir dir;
   const fs::path out = dir.path() / "out";
   fs::copy(reference(), out, fs::copy_options::recursive);
-  const CliResult r = run_cli(slice_args(out) + " --resume --background 0,0,0,255");
+  const CliResult r = run_cli(slice_args(out) + " --resume --background 255,255,255");
   EXPECT_EQ(r.exit_code, 3);
   EXPECT_NE(r.err.find("background_rgba"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("manifest.json"), std::string::npos) << r.err;

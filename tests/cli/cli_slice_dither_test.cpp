@@ -31,7 +31,7 @@ TEST(CliSliceDither, OptionsOverrideTheScene) {
 
   // The sheet: a header, the background and the scene's two library materials.
   const std::string sheet = read_text(dir.path() / "b" / "materials.csv");
-  EXPECT_EQ(sheet.rfind("label,name,library,hex,r,g,b,a\n0,background,,#FFFFFFFF,", 0), 0u) << sheet;
+  EXPECT_EQ(sheet.rfind("label,name,library,hex,r,g,b,a\n0,background,,#000000FF,", 0), 0u) << sheet;
   EXPECT_NE(sheet.find("\n1,VeroCyan,VeroCyan,#00A0E3FF,0,160,227,255\n"), std::string::npos) << sheet;
   EXPECT_NE(sheet.find("\n2,VeroYellow,VeroYellow,#FFED00FF,255,237,0,255\n"), std::string::npos) << sheet;
 }

@@ -129,7 +129,7 @@ TEST(GcvfWriter, EntriesAreTheVoxelPrintLayersAndTheConfigDescribesTheJob) {
   EXPECT_EQ(c["SliceRange/NumberOfSlices"], fmt::format("{}", total));
   EXPECT_EQ(c["ImageFilePrefix"], "slice_");
   EXPECT_EQ(c["DataSemantics"], "Materials");
-  EXPECT_EQ(c["MaterialList/BackGroundMaterialRGBA"], "255 255 255 255");
+  EXPECT_EQ(c["MaterialList/BackGroundMaterialRGBA"], "0 0 0 255");  // the public packages' background
   ASSERT_EQ(c["materials"].size(), scene.materials.size());
   for (std::size_t j = 0; j < scene.materials.size(); ++j) {
     const auto& m = c["materials"][j];

@@ -46,7 +46,7 @@ TEST(TiffStackWriter, PagesAreTheLayersInOrder) {
   const Slicer slicer(scene, {});
   const JobParams p = tiff_params("pages", 3);
   run_slice_job(slicer, p);
-  std::vector<std::array<std::uint8_t, 4>> palette = {p.background_rgba};
+  std::vector<std::array<std::uint8_t, 4>> palette = {job_background(scene, p)};
   for (const MaterialDef& m : scene.materials) palette.push_back(m.rgba);
   std::int64_t material_pixels = 0;
   const int pages = read_tiff_stack(p.output_dir / "tiff/stack.tif", [&](int page, const LabelImage& labels) {

@@ -57,7 +57,7 @@ TEST(VdbWriter, GridsHoldTheLayerImagesInModelSpace) {
 
   // The reference: every material pixel of every layer PNG, as (column, rows from the bottom,
   // layer), per material.
-  std::vector<std::array<std::uint8_t, 4>> palette = {p.background_rgba};
+  std::vector<std::array<std::uint8_t, 4>> palette = {job_background(scene, p)};
   for (const MaterialDef& m : scene.materials) palette.push_back(m.rgba);
   std::vector<std::vector<std::array<int, 3>>> expected(scene.materials.size());
   for (int k = 0; k < total; ++k) {

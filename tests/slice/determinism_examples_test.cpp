@@ -1,9 +1,9 @@
 // Every bundled example scene gives the same output bytes for 1, 2 and 8 threads (once with
 // 1, twice with 2 and with 8; 16 layers from the middle of each, so that 8 threads running at
 // once each have layers to slice), in every output format: the layer formats (Voxel Print,
-// bitmaps, legacy BMPs) and the stack formats (multi-page TIFF, OpenVDB, GrabCAD package,
-// previews). The scenes of examples/shared_scenes/ are built from ../shared and skip when it
-// is absent.
+// bitmaps, legacy BMPs, greyscale PNGs) and the stack formats (multi-page TIFF, OpenVDB,
+// GrabCAD package, previews, and the SL1S archive for the scene made for that printer). The scenes of
+// examples/shared_scenes/ are built from ../shared and skip when it is absent.
 #include <unistd.h>
 
 #include <algorithm>
@@ -36,8 +36,10 @@ using test::folder_bytes;
 // One test per example, so that CTest runs them side by side and each has its own time limit.
 const std::vector<std::string>& example_scenes() {
   static const std::vector<std::string> names = {
-      "boolean_pair",   "box_gradient",      "chalice",     "column_scalar_gradient", "cylinder_sector_curves",
-      "dithering_skin", "expression_layers", "quick_start", "texture_composition",    "twisted_column_porous"};
+      "boolean_pair",          "box_gradient",           "chalice",
+      "column_greyscale_sl1s", "column_scalar_gradient", "cylinder_sector_curves",
+      "dithering_skin",        "expression_layers",      "quick_start",
+      "texture_composition",   "twisted_column_porous"};
   return names;
 }
 
@@ -86,6 +88,7 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
   const int layers = slicer.layout().num_layers;
   ASSERT_GE(layers, kLayers) << path;
   const int first_layer = layers / 2 - kLayers / 2;
+  const bool sl1s = scene.printer.family == "sl1s";
   const int last_layer = first_layer + kLayers - 1;
   std::map<std::string, std::string> first;
   std::size_t max_threads_seen = 0;
@@ -103,7 +106,8 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
       p.last_layer = last_layer;
       p.min_layers = 0;
       p.threads = threads;
-      p.formats = {"voxelprint", "bitmaps", "legacy", "tiff", "vdb", "gcvf", "preview"};
+      p.formats = {"voxelprint", "bitmaps", "legacy", "greyscale", "tiff", "vdb", "gcvf", "preview"};
+      if (sl1s) p.formats.push_back("sl1s");
       ThreadsSeen seen;
       run_slice_job(slicer, p, &seen);
       const auto bytes = folder_bytes(p.output_dir);
@@ -112,10 +116,10 @@ TEST_P(DeterminismOfExample, IdenticalAcrossThreadCountsAndRepeats) {
       if (threads == 8) max_threads_seen = std::max(max_threads_seen, seen.count());
       if (runs++ == 0) {
         first = bytes;
-        // Per layer a Voxel Print image and a bitmap and a BMP per material; the stacks,
-        // the four previews, slices.txt, materials.csv and the manifest.
-        const std::size_t per_layer = 1 + 2 * scene.materials.size();
-        EXPECT_EQ(first.size(), static_cast<std::size_t>(kLayers) * per_layer + 3 + 4 + 3) << path;
+        // Per layer a Voxel Print image, a greyscale image and a bitmap and a BMP per
+        // material; the stacks, the four previews, slices.txt, materials.csv and the manifest.
+        const std::size_t per_layer = 2 + 2 * scene.materials.size();
+        EXPECT_EQ(first.size(), static_cast<std::size_t>(kLayers) * per_layer + 3 + 4 + 3 + (sl1s ? 1 : 0)) << path;
         EXPECT_EQ(first.count("vdb/stack.vdb") + first.count("gcvf/stack.gcvf") + first.count("tiff/stack.tif") +
                       first.count("preview/cut_xz.png") + first.count("legacy/slices.txt"),
                   5u);

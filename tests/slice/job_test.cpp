@@ -194,11 +194,11 @@ TEST(SliceJob, WritesTheColourToMaterialSheet) {
   JobParams p;
   p.output_dir = fresh_dir("sheet");
   p.min_layers = 0;
-  p.background_rgba = {1, 2, 3, 4};
+  p.background_rgba = std::array<std::uint8_t, 4>{1, 2, 3, 255};
   run_slice_job(slicer, p);
   const std::string expected =
       "label,name,library,hex,r,g,b,a\n"
-      "0,background,,#01020304,1,2,3,4\n" +
+      "0,background,,#010203FF,1,2,3,255\n" +
       fmt::format("1,\"Vero, \"\"quoted\"\"\",,#{:02X}{:02X}{:02X}{:02X},{},{},{},{}\n", scene.materials[0].rgba[0],
                   scene.materials[0].rgba[1], scene.materials[0].rgba[2], scene.materials[0].rgba[3],
                   scene.materials[0].rgba[0], scene.materials[0].rgba[1], scene.materials[0].rgba[2],
@@ -223,7 +223,9 @@ TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
   ASSERT_LT(L.num_layers, 30);  // 0.2 mm at 14 um: 15 layers, so the stack is padded
   EXPECT_EQ(st.padded_layers, 30 - L.num_layers);
 
-  std::set<std::array<std::uint8_t, 4>> palette = {p.background_rgba};
+  const std::array<std::uint8_t, 4> background = job_background(scene, p);
+  EXPECT_EQ(background, (std::array<std::uint8_t, 4>{0, 0, 0, 255}));  // no material is black
+  std::set<std::array<std::uint8_t, 4>> palette = {background};
   for (const MaterialDef& m : scene.materials) palette.insert(m.rgba);
   int stacks = 0;
   for (int i = 0; i < 30; ++i) {
@@ -242,7 +244,7 @@ TEST(SliceJob, VoxelPrintStackIsRgbaEqualSizedColourExactAndBitmapsPartition) {
       ASSERT_TRUE(palette.count(c)) << "colour outside the palette in layer " << i;
       const bool on0 = b0.rgba[4 * px] != 0, on1 = b1.rgba[4 * px] != 0;
       EXPECT_FALSE(on0 && on1);  // at most one material per voxel
-      const bool occupied_px = c != p.background_rgba;
+      const bool occupied_px = c != background;
       occupied += occupied_px;
       in_bitmaps += on0 || on1;
       if (occupied_px) {

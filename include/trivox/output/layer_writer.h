@@ -11,25 +11,52 @@
 #include <utility>
 #include <vector>
 
+#include <optional>
+
 #include "trivox/output/png_io.h"
+#include "trivox/printer/printer_profile.h"
+#include "trivox/raster/greyscale.h"
 #include "trivox/raster/material_grid.h"
 
 namespace trivox {
+
+// How the "gcvf" package is written where the public writers differ (docs/FORMATS.md,
+// "GrabCAD Voxel Print package").
+struct GcvfOptions {
+  // ConfigFile.xml names a material by its Stratasys code where one is known (e.g.
+  // "VeroCY-V"), else as the scene does; false: always as the scene does.
+  bool material_codes = true;
+  // Materials with no voxel in the stack are left out of the material list; false: listed.
+  bool omit_unused = true;
+  // Extra members: "model.stl", the boundary of every cell's volume; "bounding_box.txt", the
+  // stack's box in mm. Their bytes, by member name, in this order (the job makes them).
+  std::vector<std::pair<std::string, std::string>> extras;
+
+  bool operator==(const GcvfOptions&) const = default;
+};
 
 struct OutputContext {
   std::filesystem::path dir;                // existing output folder
   std::vector<std::string> material_names;  // scene materials, index j = label j + 1
   std::vector<std::array<std::uint8_t, 4>> material_rgba;
-  std::array<std::uint8_t, 4> background_rgba{255, 255, 255, 255};
-  std::string prefix = "slice_";  // common file-name prefix
-  int total_layers = 1;           // sets the zero padding of the numbers
-  int model_layers = 1;           // layers 0..model_layers-1 hold the model; the rest are padding
+  // The library material each scene material matches, in the library's spelling; empty for
+  // a custom one (printer/material_library.h).
+  std::vector<std::string> material_library;
+  // The background of the printer images (its alpha is 255: printer images are opaque).
+  std::array<std::uint8_t, 4> background_rgba{0, 0, 0, 255};
+  std::string prefix = "slice_";    // common file-name prefix
+  int total_layers = 1;             // sets the zero padding of the numbers
+  int width_px = 0, height_px = 0;  // the layer images' size (the bitmap of the model's box)
+  int model_layers = 1;             // layers 0..model_layers-1 hold the model; the rest are padding
   // Pixel and layer pitch (mm), for outputs that show the stack at its true proportions.
   double pitch_x_mm = 1, pitch_y_mm = 1, layer_mm = 1;
   // Where the stack sits in model space (mm), for outputs that place it there: the left edge
   // of column 0, the top edge of row 0, and the bottom of job layer 0.
   double x0_mm = 0, y_top_mm = 0, z0_mm = 0;
   PngWriteParams png;
+  // The printer: its name, and the display the greyscale archives lay the images on.
+  PrinterProfile printer;
+  GcvfOptions gcvf;
 };
 
 // For the job estimate (job_estimate.h): which of the layers a stack output was fed stand
@@ -58,6 +85,15 @@ class LayerWriter {
   // `index` counts from 0; files carry index + 1, zero-padded. Returns the files written
   // (relative to the output folder).
   virtual std::vector<std::string> write_layer(int index, const LabelImage& labels) const = 0;
+  // Greyscale outputs (resin printers) expose each pixel with a grey level: they take the
+  // layer's grey image too (empty when the scene has no greyscale block, or for a padding
+  // layer; the writer then exposes every pixel with a material fully). The job calls this
+  // instead of write_layer when the writer asks for it.
+  virtual bool takes_grey() const noexcept { return false; }
+  virtual std::vector<std::string> write_grey_layer(int index, const LabelImage& labels, const GreyImage& grey) const {
+    (void)grey;
+    return write_layer(index, labels);
+  }
 
   // Stack outputs (previews) need every layer of the job: write_layer only collects what
   // they need (bounded memory), and finish() writes their files once the last layer is in.
@@ -97,12 +133,27 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 // "legacy":     the bitmap method of the paper's printer: legacy/<prefix><n>_<material>.bmp,
 //               one 1-bit BMP per material per layer (1 = material), and legacy/slices.txt
 //               with the layer thickness, slice count and bitmap names.
+// "greyscale":  greyscale/<prefix><n>.png, one 8-bit greyscale PNG per layer with its pixel
+//               size in pHYs, for masked-resin printers: the scene's greyscale exposure
+//               (0 = none), the bitmap of the model's box.
+// "sl1", "sl1s": <prefix>.sl1 / <prefix>.sl1s, a Prusa SL1 / SL1S print archive (zip of
+//               config.ini, prusaslicer.ini, the greyscale layers laid on the printer's
+//               display, thumbnails); a stack output; the printer profile must have a display.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
 // Whether the format is a stack output (its writers need the whole stack and write their
 // files, under a folder named after the format, when the job completes) rather than one
 // that writes files for every layer. Throws Error for an unknown name.
 bool is_stack_format(std::string_view format);
+
+// Feeds one layer to a writer: write_grey_layer for one that takes the grey image, else
+// write_layer.
+std::vector<std::string> write_layer_to(const LayerWriter& writer, int index, const LabelImage& labels,
+                                        const GreyImage& grey);
+
+// The grey levels a greyscale output writes for a layer: `grey` when it has the labels' size,
+// else 255 wherever a label holds a material and 0 elsewhere.
+GreyImage exposure_of(const LabelImage& labels, const GreyImage& grey);
 
 // Display-colour PNGs of chosen layers at their true proportions, preview/layer_NNNNN.png
 // (`trivox slice --preview`; layer_preview_writer.cpp). `layers` pairs a job layer index

@@ -40,11 +40,19 @@ struct PngWriteParams {
   int zlib_level = 1;  // 0 (store) to 9 (smallest)
   PngFilter filter = PngFilter::kNone;
   PngStrategy strategy = PngStrategy::kDefault;
+  // The physical pixel size, written as a pHYs chunk (pixels per metre along x and y, unit
+  // metre) when both are nonzero; 0 and 0: no pHYs chunk. pixels_per_metre() converts a pitch.
+  std::uint32_t pixels_per_metre_x = 0;
+  std::uint32_t pixels_per_metre_y = 0;
 
-  // Throws Error naming the field when zlib_level is outside [0, 9], or filter or strategy
-  // is unknown.
+  // Throws Error naming the field when zlib_level is outside [0, 9], filter or strategy is
+  // unknown, or exactly one of the pHYs densities is 0.
   void validate() const;
 };
+
+// Pixels per metre of a pitch in millimetres, rounded to the nearest whole number (pHYs
+// stores whole numbers): 0.05 mm is 20000, 600 dpi (0.04233 mm) 23622.
+std::uint32_t pixels_per_metre(double pitch_mm);
 
 // An 8-bit RGBA image: width_px * height_px * 4 bytes, R G B A per pixel.
 struct RgbaImage {
@@ -87,6 +95,9 @@ void write_png_indexed(const std::filesystem::path& path, int width_px, int heig
 // Writes colour type 0 (grayscale), bit depth 8: one byte per pixel.
 void write_png_gray8(const std::filesystem::path& path, int width_px, int height_px, std::span<const std::uint8_t> gray,
                      const PngWriteParams& params = {});
+// The bytes write_png_gray8 would write, in memory.
+std::string encode_png_gray8(int width_px, int height_px, std::span<const std::uint8_t> gray,
+                             const PngWriteParams& params = {});
 
 // Writes colour type 0, bit depth 1: one byte per pixel in `values`, nonzero = white (1).
 void write_png_gray1(const std::filesystem::path& path, int width_px, int height_px,

@@ -19,14 +19,18 @@ struct LibraryMaterial {
   std::string_view name;             // as Stratasys writes it, e.g. "VeroCyan-V"
   std::string_view family;           // "Vero", "VeroVivid", "VeroClear", "Agilus30", "Tango"
   std::array<std::uint8_t, 4> rgba;  // sRGB + alpha, a display approximation
+  // The material's code in GrabCAD Voxel Print packages (ConfigFile.xml's Material/Name, e.g.
+  // "VeroCY-V"), where a public package writer or reader gives one (docs/FORMATS.md names
+  // each source); empty otherwise.
+  std::string_view code = {};
 };
 
 // Every library material, in a fixed order; names and colours are distinct.
 std::span<const LibraryMaterial> material_library() noexcept;
 
 // The library material called `name`, matched ignoring case, spaces, '-' and '_'
-// ("Agilus30 Black", "agilus30-black" and "Agilus30Black" are one material); nullopt when
-// there is none.
+// ("Agilus30 Black", "agilus30-black" and "Agilus30Black" are one material), or else whose
+// code matches the same way ("VeroCY-V" is VeroCyan-V); nullopt when there is none.
 std::optional<LibraryMaterial> find_library_material(std::string_view name);
 
 }  // namespace trivox

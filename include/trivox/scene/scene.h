@@ -21,6 +21,7 @@
 #include "trivox/math.h"
 #include "trivox/printer/printer_profile.h"
 #include "trivox/raster/dither.h"
+#include "trivox/raster/greyscale.h"
 #include "trivox/spline/volume.h"
 #include "trivox/trim/trim.h"
 
@@ -58,6 +59,24 @@ struct Cell {
   // give the cell the same voxels; a resumed job compares them (manifest.h). Empty for cells
   // built in code.
   std::string fingerprint{};
+  // The scene's greyscale source for this cell when it is a scalar source (one output,
+  // evaluated like a material function), null otherwise (Scene::greyscale).
+  std::shared_ptr<const MaterialFunction> grey_source{};
+};
+
+// The scene's "greyscale" block: instead of dithering, a masked-resin printer exposes each
+// voxel with a grey level (docs/SCENE.md, "Greyscale").
+struct GreyscaleDef {
+  // The material whose fraction is the scalar; -1 when each cell's grey_source gives it.
+  int material = -1;
+  // Scalar -> grey level, of the printer and resin.
+  GreyCalibration curve;
+  // k: a pixel on an outline takes the mean grey of k x k sub-samples (its covered fraction
+  // times its material's grey); 1 = no anti-aliasing. 1 to 8.
+  int antialiasing = 4;
+  // The resin's exposure (seconds) of a layer and of the first layers, for the print archives;
+  // absent: the printer profile's.
+  std::optional<double> exposure_s, initial_exposure_s;
 };
 
 // A named trivariate of the scene ("volumes" in the scene file): a cell's parametrization
@@ -89,6 +108,9 @@ struct Scene {
   // The scene's "dithering" settings; absent: the slicer's defaults (SliceParams::dither
   // overrides either).
   std::optional<DitherParams> dithering;
+  // The scene's "greyscale" block; absent: the material layers are dithered, and greyscale
+  // outputs expose every voxel that holds a material fully.
+  std::optional<GreyscaleDef> greyscale;
   // Named trivariates that cells use as parametrization or trim (Cell::scene_volume,
   // TrimClause::volume).
   std::vector<SceneVolume> volumes;

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,17 @@
 
 namespace trivox {
 
+// How the "gcvf" package is written where the public package writers differ
+// (docs/FORMATS.md, "GrabCAD Voxel Print package").
+struct GcvfJobOptions {
+  bool material_codes = true;  // ConfigFile.xml names materials by their Stratasys codes where known
+  bool omit_unused = true;     // materials with no voxel are left out of the list
+  bool mesh_stl = false;       // add model.stl: the boundary of every cell's volume
+  bool bounding_box = false;   // add bounding_box.txt: the stack's box in mm
+
+  bool operator==(const GcvfJobOptions&) const = default;
+};
+
 struct JobParams {
   std::filesystem::path output_dir;
   // Layers first..last (inclusive, 0-based); last < 0 means the model's last layer.
@@ -33,7 +45,11 @@ struct JobParams {
   int threads = 0;                                 // 0 = all cores
   std::vector<std::string> formats{"voxelprint"};  // see layer_writer.h
   std::string prefix = "slice_";
-  std::array<std::uint8_t, 4> background_rgba{255, 255, 255, 255};
+  // The background colour of the printer images, opaque (alpha 255). nullopt: automatic, black
+  // (0, 0, 0, 255) as in the public Voxel Print packages, unless a material is black
+  // (job_background()).
+  std::optional<std::array<std::uint8_t, 4>> background_rgba;
+  GcvfJobOptions gcvf;
   // GrabCAD Voxel Print needs at least this many layers; shorter jobs are padded with empty
   // (background) layers after the model's.
   int min_layers = 30;
@@ -90,6 +106,11 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
 // Throws Error when the job cannot run on the scene's printer or with these settings: more
 // materials than the printer takes, a shard number out of range, an empty layer range.
 void check_job_settings(const Slicer& slicer, const JobParams& params);
+
+// The background the job's printer images use: JobParams::background_rgba, or automatically
+// the first of black, white and the greys (n, n, n) from n = 1 up that no material's opaque
+// colour takes.
+std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& params);
 
 // The manifest this job starts from: tool version, inputs, effective settings and layer
 // count, status running, no files.

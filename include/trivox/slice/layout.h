@@ -27,7 +27,9 @@ struct SliceLayout {
 };
 
 // The layout that covers `bounds` (model mm) at the printer's resolution: whole pixels and
-// layers, at least one of each.
+// layers, at least one of each. For a printer with a display (a masked-resin printer) the
+// width and height take the display's parity, one pixel more where needed, so that the bitmap
+// centred on the display lies on its pixel grid.
 SliceLayout make_layout(const Box3& bounds, const PrinterProfile& printer);
 
 }  // namespace trivox

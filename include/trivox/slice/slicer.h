@@ -6,6 +6,7 @@
 #include <mutex>
 #include <vector>
 
+#include "trivox/raster/greyscale.h"
 #include "trivox/raster/material_grid.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/layout.h"
@@ -21,7 +22,14 @@ struct TracedRow;
 struct LayerResult {
   LabelImage labels;  // 0 = void / background, 1 + j = scene material j
   LayerStats stats;
+  // The scene's greyscale exposure (Scene::greyscale), the size of `labels`; empty when the
+  // scene has no greyscale block.
+  GreyImage grey;
 };
+
+namespace detail {
+class EdgeCoverage;
+}
 
 class Slicer {
  public:
@@ -88,6 +96,8 @@ class Slicer {
   // faulting-in and clearing of their pages. One per concurrent slice_layer call at most.
   mutable std::mutex buffers_mutex_;
   mutable std::vector<std::unique_ptr<LayerBuffers>> free_buffers_;
+  // Greyscale scenes with anti-aliasing: the sub-sampling of edge pixels.
+  std::unique_ptr<detail::EdgeCoverage> coverage_;
 };
 
 }  // namespace trivox
