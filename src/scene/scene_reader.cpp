@@ -329,8 +329,9 @@ void add_cell(Scene& scene, detail::SceneContext& ctx, const JsonView& entry, co
   auto raw = detail::parse_material(material, ctx, volume.domain());
   MaterialSite site{scene.source, material.pointer(), name, ctx.material_names()};
   auto checked = std::make_shared<CheckedMaterial>(std::move(raw), scene.fraction_policy, std::move(site));
-  scene.cells.push_back(Cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume,
-                             std::move(trim), nullptr, folds});
+  Cell cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume, std::move(trim)};
+  cell.folds = folds;
+  scene.cells.push_back(std::move(cell));
 }
 
 void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
@@ -448,6 +449,30 @@ void parse_union(const JsonView& u, detail::SceneContext& ctx, Scene& scene) {
     }
 }
 
+// The scene's fingerprints (Scene::settings_fingerprint, Cell::fingerprint), from the parsed
+// JSON, canonical: the scene keeps its keys in file order, so the parts are dumped with their
+// keys sorted (nlohmann::json's objects), and whitespace, key order and the spelling of a
+// number in the file do not matter.
+std::string canonical(const Json& part) { return nlohmann::json::parse(part.dump()).dump(); }
+
+void fingerprint(const Json& root, Scene& scene) {
+  Json settings = root;
+  for (const char* key : {"cells", "unions", "volumes", "description", "$schema", "fraction_sums"}) settings.erase(key);
+  scene.settings_fingerprint = sha256_hex(canonical(settings));
+  const auto at = [&](const std::string& pointer) { return canonical(root.at(Json::json_pointer(pointer))); };
+  for (Cell& cell : scene.cells) {
+    std::string text = fmt::format("{}\n{}", cell.name, at(cell.pointer));
+    if (cell.scene_volume >= 0)
+      text += fmt::format("\nvolume {}", at(scene.volumes[static_cast<std::size_t>(cell.scene_volume)].pointer));
+    for (const TrimClause& k : cell.trim.clauses) {
+      text += fmt::format("\ntrim {} {}", static_cast<int>(k.kind), static_cast<int>(k.side));
+      if (k.kind == TrimKind::kVolume)
+        text += fmt::format(" {}", at(scene.volumes[static_cast<std::size_t>(k.volume)].pointer));
+    }
+    cell.fingerprint = sha256_hex(text);
+  }
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view json_text, const std::filesystem::path& source, const std::atomic<bool>* stop) {
@@ -486,6 +511,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
     for (const JsonView& u : unions->elements(1)) parse_union(u, ctx, scene);
   if (const auto g = top.find("greyscale")) parse_greyscale(*g, ctx, scene);
   scene.input_files = ctx.input_files();
+  fingerprint(root, scene);
   return scene;
 }
 
