@@ -169,6 +169,35 @@ void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayou
   for (auto& r : rows) std::sort(r.begin(), r.end());
 }
 
+void shell_row_windings(const std::vector<Segment2>& segments, const std::vector<int>& directions, const SliceLayout& L,
+                        std::vector<std::vector<double>>& rows, std::vector<std::vector<int>>& windings) {
+  std::vector<std::vector<std::pair<double, int>>> found(static_cast<std::size_t>(L.height_px));
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const Segment2& s = segments[k];
+    const auto [r0, r1] = rows_near(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    double x;
+    for (int r = r0; r <= r1; ++r)
+      if (crosses_row(s, L.y_of_row(r), x))
+        found[static_cast<std::size_t>(r)].push_back({x, crossing_winding(s, directions[k])});
+  }
+  rows.resize(static_cast<std::size_t>(L.height_px));
+  windings.resize(static_cast<std::size_t>(L.height_px));
+  for (std::size_t r = 0; r < found.size(); ++r) {
+    auto& f = found[r];
+    std::sort(f.begin(), f.end());
+    rows[r].resize(f.size());
+    windings[r].assign(f.size() + 1, 0);
+    for (std::size_t i = f.size(); i-- > 0;) {
+      rows[r][i] = f[i].first;
+      windings[r][i] = windings[r][i + 1] + f[i].second;
+    }
+  }
+}
+
+int winding_beyond(const std::vector<double>& xs, const std::vector<int>& windings, double x) noexcept {
+  return windings[static_cast<std::size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin())];
+}
+
 bool inside_crossings(const std::vector<double>& xs, double x) noexcept {
   // Crossings beyond x, as ShellMesh::contains counts them.
   const auto beyond = xs.end() - std::upper_bound(xs.begin(), xs.end(), x);

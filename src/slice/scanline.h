@@ -39,6 +39,15 @@ void intersect_spans(RowSpans& rows, const RowSpans& mask);
 void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayout& layout,
                          std::vector<std::vector<double>>& rows);
 
+// The same for a shell decided by its winding number (ShellMesh::winding): each row's
+// crossings sorted, and beside them the windings beyond each, windings[r][i] the sum of
+// crossing_winding over crossings i, i + 1, ... of row r (one entry more, 0, past the last).
+void shell_row_windings(const std::vector<Segment2>& segments, const std::vector<int>& directions,
+                        const SliceLayout& layout, std::vector<std::vector<double>>& rows,
+                        std::vector<std::vector<int>>& windings);
+// The winding of a row's crossings beyond abscissa x (the w of ShellMesh::winding_inside).
+int winding_beyond(const std::vector<double>& xs, const std::vector<int>& windings, double x) noexcept;
+
 // Whether abscissa x is inside by the even-odd rule over a row's sorted crossings.
 bool inside_crossings(const std::vector<double>& xs, double x) noexcept;
 

@@ -95,10 +95,17 @@ void Slicer::cut_trimming_shells(LayerWork& w) const {
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses)
       if (k.shell_slot >= 0) {
+        const auto slot = static_cast<std::size_t>(k.shell_slot);
+        if (w.shell_rows.size() <= slot) w.shell_rows.resize(slot + 1);
+        if (k.mesh->winding()) {
+          // A mesh trim by the winding-number rule: the crossings signed (shell_mesh.h).
+          if (w.shell_row_windings.size() <= slot) w.shell_row_windings.resize(slot + 1);
+          k.mesh->mesh().cut(w.stats.z_mm, w.segments, w.directions);
+          detail::shell_row_windings(w.segments, w.directions, layout_, w.shell_rows[slot], w.shell_row_windings[slot]);
+          continue;
+        }
         k.mesh->mesh().cut(w.stats.z_mm, w.segments);
-        if (w.shell_rows.size() <= static_cast<std::size_t>(k.shell_slot))
-          w.shell_rows.resize(static_cast<std::size_t>(k.shell_slot) + 1);
-        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[static_cast<std::size_t>(k.shell_slot)]);
+        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[slot]);
       }
 }
 
@@ -112,11 +119,18 @@ bool Slicer::passes_model_space_clauses(const CellData& cd, int col, int row, co
                            static_cast<std::size_t>(col)] != 0;
     } else if (k.kind == TrimKind::kShell) {
       const auto& xs = w.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
-      // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
-      // times: its pixels are decided by the shell's vote (shell_mesh.h).
-      in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
-               ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
-               : detail::inside_crossings(xs, L.x_of_col(col));
+      if (k.mesh->winding()) {
+        const auto& windings =
+            w.shell_row_windings[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
+        const double x = L.x_of_col(col);
+        in = k.mesh->winding_inside(detail::winding_beyond(xs, windings, x), {x, L.y_of_row(row), w.stats.z_mm});
+      } else {
+        // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
+        // times: its pixels are decided by the shell's vote (shell_mesh.h).
+        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
+                 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
+                 : detail::inside_crossings(xs, L.x_of_col(col));
+      }
     } else {
       continue;
     }
