@@ -100,11 +100,15 @@ double coplanar_overlap_width(const std::array<Vec3, 3>& a, const std::array<Vec
   const std::vector<std::array<double, 2>> other = flat(b);
   for (std::size_t i = 0; i < 3 && poly.size() >= 3; ++i) poly = clip(poly, other[i], other[(i + 1) % 3]);
   if (poly.size() < 3) return 0;
+  // The area as a fan from the first corner: relative coordinates, so that a polygon clipped
+  // down to a point (triangles that touch) has an area of its own size, not the rounding of
+  // products of its absolute coordinates, which divided by its tiny perimeter would be a
+  // width of a fraction of a millimetre.
   double area = 0, perimeter = 0;
   for (std::size_t i = 0; i < poly.size(); ++i) {
     const auto& p = poly[i];
     const auto& q = poly[(i + 1) % poly.size()];
-    area += p[0] * q[1] - p[1] * q[0];
+    area += (p[0] - poly[0][0]) * (q[1] - poly[0][1]) - (p[1] - poly[0][1]) * (q[0] - poly[0][0]);
     perimeter += std::hypot(q[0] - p[0], q[1] - p[1]);
   }
   // The area in the plane itself: the projection shrank it by the dropped normal component.
@@ -121,10 +125,13 @@ bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
   double scale = 0;
   for (const auto* t : {&a, &b})
     for (const Vec3& p : *t) scale = std::max(scale, max_abs(p - a[0]));
-  // Below this, distances are rounding: a vertex that close to a plane lies on it, and an
-  // intersection that short is a touch.
-  const double eps = 1e-12 * scale;
+  // Intersections shorter than floor_len are a touch. A vertex within eps of the other
+  // triangle's plane lies on it: rounding, or a distance a thousand times below the
+  // tolerance. Triangles that close to each other's planes are compared in the plane, where
+  // their overlap is well conditioned; the line where two nearly parallel planes meet is not
+  // (rounded coordinates of a flat face would otherwise cross each other).
   const double floor_len = std::max(tolerance, 1e-9 * scale);
+  const double eps = std::max(1e-12 * scale, 1e-3 * floor_len);
   double da[3], db[3];
   bool coplanar = true;
   for (int i = 0; i < 3; ++i) {

@@ -59,7 +59,13 @@ TEST(MeshCheck, AFlippedTriangleIsMisorientedAndRepaired) {
   EXPECT_LE(c.misoriented_edges.triangle, 17);
   std::vector<SlicedMesh::Triangle> tris = m.triangles;
   EXPECT_EQ(orient_consistently(m.vertices, tris), 1u);
-  EXPECT_EQ(tris, test::sphere_mesh({0, 0, 0}, 1, 8, 12).triangles);
+  // The triangle runs its original cycle again (from another corner: the repair swaps two).
+  const auto want = test::sphere_mesh({0, 0, 0}, 1, 8, 12).triangles;
+  for (std::size_t t = 0; t < tris.size(); ++t) {
+    auto a = tris[t];
+    while (a[0] != want[t][0]) std::rotate(a.begin(), a.begin() + 1, a.end());
+    EXPECT_EQ(a, want[t]) << t;
+  }
 }
 
 TEST(MeshCheck, OrientationRepairKeepsTheMajorityOfEachComponent) {
@@ -93,7 +99,8 @@ TEST(MeshCheck, ADuplicatedFaceIsNonManifold) {
   m.triangles.push_back(m.triangles[4]);
   const MeshCheck c = check_mesh(sliced(m), {});
   EXPECT_EQ(c.nonmanifold_edges.count, 3u);
-  EXPECT_EQ(c.nonmanifold_edges.triangle, 4);
+  // Edge (0, 1) of the copied triangle 4 is also triangle 0's: the lowest triangle is named.
+  EXPECT_EQ(c.nonmanifold_edges.triangle, 0);
   EXPECT_FALSE(c.closed());
 }
 
@@ -165,6 +172,23 @@ TEST(TrianglesIntersect, CrossingTouchingAndSharingCorners) {
   EXPECT_FALSE(triangles_intersect(flat, {Vec3{1, 1, 0}, Vec3{5, 1, 0}, Vec3{1, 5, 0}}, 1.0));
   EXPECT_FALSE(triangles_intersect(flat, {Vec3{5, 0, 0}, Vec3{9, 0, 0}, Vec3{5, 4, 0}}, 0));
   EXPECT_FALSE(triangles_intersect(flat, {Vec3{0, 0, 0}, Vec3{-4, 0, 0}, Vec3{0, -4, 0}}, 0));
+  // Two triangles of a flat face with float coordinates, far from the origin, that share
+  // only a corner (a nut's top face): the overlap clipped down to that corner must measure as
+  // a point, not as the rounding of its coordinates' products (which passed 0.01 mm); and the
+  // same with one lifted by 1e-9, nearly but not exactly coplanar.
+  const std::array<Vec3, 3> fan_a{Vec3{-0.13085027039051056, 2.7468852996826172, 1.7999999523162842},
+                                  Vec3{-0.39136579632759094, -2.7220089435577393, 1.7999999523162842},
+                                  Vec3{-0.13085027039051056, -2.7468852996826172, 1.7999999523162842}};
+  std::array<Vec3, 3> fan_b{Vec3{2.7375478744506836, -0.2614041268825531, 1.7999999523162842},
+                            Vec3{-0.13085027039051056, -2.7468852996826172, 1.7999999523162842},
+                            Vec3{2.7003040313720703, -0.52044093608856201, 1.7999999523162842}};
+  EXPECT_FALSE(triangles_intersect(fan_a, fan_b, 0.01));
+  EXPECT_FALSE(triangles_intersect(fan_a, fan_b, 0));
+  fan_b[0].z += 1e-9;
+  EXPECT_FALSE(triangles_intersect(fan_a, fan_b, 0.01));
+  // Moved onto the other one, the same triangle overlaps it.
+  for (Vec3& p : fan_b) p = p + Vec3{-1.5, 0.5, 0};
+  EXPECT_TRUE(triangles_intersect(fan_a, fan_b, 0.01));
   // A degenerate triangle has no plane and crosses nothing.
   EXPECT_FALSE(triangles_intersect(flat, {Vec3{1, 1, -1}, Vec3{1, 1, 0}, Vec3{1, 1, 1}}, 0));
 }

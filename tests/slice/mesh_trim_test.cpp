@@ -40,7 +40,7 @@ std::string scene_json(const fs::path& mesh, double scale, const Box3& box, cons
         points += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", points.empty() ? "" : ", ", i ? box.hi.x : box.lo.x,
                               j ? box.hi.y : box.lo.y, k ? box.hi.z : box.lo.z);
   return fmt::format(
-      R"({{"version": 1, "units": "mm", "printer": {{"x_dpi": 203.2, "y_dpi": 203.2, "layer_thickness_mm": 0.125}},
+      R"({{"version": 1, "units": "mm", "printer": {{"x_dpi": 203.2, "y_dpi": 203.2, "layer_thickness_mm": 0.125, "max_materials": 2}},
   "materials": ["VeroCyan", "VeroMagenta"],
   "cells": [{{"name": "trimmed", "geometry": {{"orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
     "points": [{}]}},

@@ -132,7 +132,7 @@ TEST(MeshShell, OverlappingPartsAreTheirUnionAndACavityStaysEmpty) {
     EXPECT_EQ(xor_.contains(p), a != b);
     both += a && b;
   }
-  EXPECT_GT(both, 200);
+  EXPECT_GT(both, 100);  // the lens where they overlap was sampled
   // A hollow ball: the cavity's sphere faces inward, and stays a cavity.
   test::TestMesh cavity = test::sphere_mesh({0, 0, 0}, 0.5, 10, 14);
   for (auto& t : cavity.triangles) std::swap(t[1], t[2]);
