@@ -126,20 +126,20 @@ bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
   for (const auto* t : {&a, &b})
     for (const Vec3& p : *t) scale = std::max(scale, max_abs(p - a[0]));
   // Intersections shorter than floor_len are a touch. A vertex within eps of the other
-  // triangle's plane lies on it: rounding, or a distance a thousand times below the
-  // tolerance. Triangles that close to each other's planes are compared in the plane, where
-  // their overlap is well conditioned; the line where two nearly parallel planes meet is not
+  // triangle's plane lies on it (rounding). Triangles whose corners all lie within flat of
+  // each other's planes, a thousandth of the tolerance, are compared in the plane, where their
+  // overlap is well conditioned; the line where two nearly parallel planes meet is not
   // (rounded coordinates of a flat face would otherwise cross each other).
   const double floor_len = std::max(tolerance, 1e-9 * scale);
-  const double eps = std::max(1e-12 * scale, 1e-3 * floor_len);
+  const double eps = 1e-12 * scale, flat = std::max(eps, 1e-3 * floor_len);
   double da[3], db[3];
   bool coplanar = true;
   for (int i = 0; i < 3; ++i) {
     da[i] = dot(nb, a[static_cast<std::size_t>(i)] - b[0]) / lb;
     db[i] = dot(na, b[static_cast<std::size_t>(i)] - a[0]) / la;
+    coplanar = coplanar && std::abs(da[i]) <= flat && std::abs(db[i]) <= flat;
     if (std::abs(da[i]) <= eps) da[i] = 0;
     if (std::abs(db[i]) <= eps) db[i] = 0;
-    coplanar = coplanar && da[i] == 0 && db[i] == 0;
   }
   if (coplanar) return coplanar_overlap_width(a, b, na) > floor_len;
   auto one_side = [](const double d[3]) {

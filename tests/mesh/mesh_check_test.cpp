@@ -29,6 +29,20 @@ TEST(MeshCheck, AClosedOrientedMeshPasses) {
   }
 }
 
+// A fine sphere in float coordinates, at tolerances up to a coarse pixel: the fans around
+// its poles are nearly flat, and their triangles, which share only the pole, must not read as
+// crossing (their corners lie within a thousandth of the tolerance of each other's planes
+// only in part).
+TEST(MeshCheck, AFineSphereInFloatsPassesAtEveryTolerance) {
+  test::TestMesh m = test::sphere_mesh({3.1, 2.3, 4.2}, 4, 40, 64);
+  for (Vec3& p : m.vertices) p = {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z)};
+  for (const double tolerance : {0.0, 1e-3, 0.01, 0.125, 0.5}) {
+    const MeshCheck c = check_mesh(sliced(m), {tolerance, true});
+    EXPECT_EQ(c.self_intersections.count, 0u)
+        << tolerance << ": e.g. " << c.self_intersections.triangle << " and " << c.self_intersections.other;
+  }
+}
+
 TEST(MeshCheck, AMissingTriangleLeavesThreeOpenEdges) {
   test::TestMesh m = test::sphere_mesh({0, 0, 0}, 1, 8, 12);
   m.triangles.erase(m.triangles.begin() + 40);

@@ -135,6 +135,31 @@ TEST(MeshTrim, OccupancyOfTheFiveSharedMeshesAgreesWithExactRays) {
   }
 }
 
+// The same comparison without the shared meshes: a sphere of 40 x 64 facets written here as
+// a binary STL, whole and with a triangle missing (which only the winding-number rule takes),
+// against exact rays on the whole sphere's triangles.
+TEST(MeshTrim, OccupancyOfAWrittenSphereAgreesWithExactRays) {
+  const fs::path dir = fs::temp_directory_path() / fmt::format("trivox_mesh_trim_sphere_{}", ::getpid());
+  fs::create_directories(dir);
+  test::TestMesh sphere = test::sphere_mesh({3.1, 2.3, 4.2}, 4, 40, 64);
+  test::write_bytes(dir / "sphere.stl", test::binary_stl(sphere));
+  sphere.triangles.erase(sphere.triangles.begin() + 1000);
+  test::write_bytes(dir / "holed.stl", test::binary_stl(sphere));
+  const auto soup = test::read_stl_soup(dir / "sphere.stl");
+  const test::ExactRays rays(soup);
+  const Box3 box = cell_box(soup);
+  for (const auto& [file, rule] : {std::pair<std::string, std::string>{"sphere.stl", "even-odd"},
+                                   {"sphere.stl", "winding-number"},
+                                   {"holed.stl", "winding-number"}}) {
+    const Scene scene = parse_scene(scene_json(dir / file, 1.0, box, rule), "sphere.json");
+    const Occupancy o = compare(scene, rays, box, 5, file + " (" + rule + ")");
+    EXPECT_EQ(o.mismatches, 0) << file << " " << rule;
+    EXPECT_GT(o.inside, 3000) << file << " " << rule;
+    EXPECT_GT(o.checked - o.inside, 5000) << file << " " << rule;
+  }
+  fs::remove_all(dir);
+}
+
 class MeshTrimReports : public ::testing::Test {
  protected:
   void SetUp() override {
