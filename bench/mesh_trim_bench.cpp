@@ -12,10 +12,10 @@
 //  * end to end: Slicer::slice_layer on one thread (outlines, inversion, material, dithering)
 //    of the box untrimmed, trimmed by the even-odd rule and trimmed by the winding-number
 //    rule; the trim's cost per inside pixel is the difference of the medians over the pixels;
-//  * the trim's own steps, as the slicer runs them for one layer (slice_layer.cpp,
-//    cut_trimming_shells and passes_model_space_clauses): the cut of the mesh by the layer's
-//    plane, its crossings per row, and the even-odd test at every pixel of the cell's outline,
-//    timed alone, per inside pixel.
+//  * the trim's own steps, as the slicer runs them (slice_layer.cpp, cut_trimming_shells and
+//    narrow_to_model_space_clauses): the cut of the mesh by the layer's plane, its crossings
+//    per row and the stretches of each row inside, timed alone, per inside pixel; and the
+//    same with the even-odd test at every pixel instead.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -127,35 +127,42 @@ int main(int argc, char** argv) {
     if (c.inside != cases[0].inside) fmt::print("  (the cases own different pixels: the box is not inside the mesh)\n");
   }
 
-  // The trim's own steps for the same layers: cut, crossings per row, the test per pixel.
+  // The trim's own steps for the same layers, as the slicer runs them: the cut, the crossings
+  // per row, and the narrowing of each row's span to the stretches inside (crossing_runs);
+  // then the same with the test at every pixel instead (inside_crossings: the path of rows
+  // the crossings cannot decide alone, and of cells whose pixels are traced first).
   const SlicedMesh mesh(read.vertices, read.triangles);
+  const std::vector<std::pair<int, int>> whole_row = {{0, L.width_px - 1}};
   std::vector<Segment2> segments;
   std::vector<std::vector<double>> rows;
-  std::vector<double> steps;
-  std::int64_t tested = 0, in = 0;
-  for (int r = 0; r < repeats; ++r) {
-    tested = in = 0;
-    const auto t0 = Clock::now();
-    for (int layer : picked) {
-      mesh.cut(L.z_of_layer(layer), segments);
-      detail::shell_row_crossings(segments, L, rows);
-      for (int row = 0; row < L.height_px; ++row) {
-        const auto& xs = rows[static_cast<std::size_t>(row)];
-        for (int col = 0; col < L.width_px; ++col) {
-          const double x = L.x_of_col(col);
-          if (x < -half || x > half || L.y_of_row(row) < -half || L.y_of_row(row) > half) continue;
-          ++tested;
-          in += detail::inside_crossings(xs, x);
+  std::vector<std::pair<int, int>> runs, kept;
+  for (const bool per_pixel : {false, true}) {
+    std::vector<double> steps;
+    std::int64_t in = 0;
+    for (int r = 0; r < repeats; ++r) {
+      in = 0;
+      const auto t0 = Clock::now();
+      for (int layer : picked) {
+        mesh.cut(L.z_of_layer(layer), segments);
+        detail::shell_row_crossings(segments, L, rows);
+        for (int row = 0; row < L.height_px; ++row) {
+          const auto& xs = rows[static_cast<std::size_t>(row)];
+          if (per_pixel) {
+            for (int col = 0; col < L.width_px; ++col) in += detail::inside_crossings(xs, L.x_of_col(col));
+          } else {
+            detail::crossing_runs(xs, nullptr, true, L, runs);
+            detail::intersect_row(whole_row, runs, kept);
+            for (const auto& [c0, c1] : kept) in += c1 - c0 + 1;
+          }
         }
       }
+      steps.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
     }
-    steps.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    const double s = median(steps);
+    fmt::print("\nthe trim's steps alone, {}: {:.2f} ms for {} inside pixels: {:.2f} ns per inside pixel\n",
+               per_pixel ? "tested per pixel" : "stretches between crossings (the slicer's narrowing)", 1e3 * s, in,
+               1e9 * s / static_cast<double>(std::max<std::int64_t>(in, 1)));
   }
-  const double s = median(steps);
-  fmt::print(
-      "\nthe trim's steps alone (cut, crossings per row, even-odd test per pixel of the box): {:.2f} ms for {} "
-      "pixels ({} inside): {:.2f} ns per inside pixel\n",
-      1e3 * s, tested, in, 1e9 * s / static_cast<double>(std::max<std::int64_t>(in, 1)));
   fs::remove_all(dir);
   return 0;
 }

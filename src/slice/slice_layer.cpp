@@ -156,11 +156,32 @@ bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
 }
 
 // Only pixels that pass the volume and shell clauses are worth inverting: those clauses are
-// decided without this cell's inverse.
+// decided without this cell's inverse. A shell clause whose row its crossings decide alone
+// (not a row through a seam's gap, nor a winding-number mesh with cones) is applied to the
+// row's spans a stretch between crossings at a time; the other clauses pixel by pixel.
 void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) const {
-  std::vector<std::pair<int, int>> kept_spans;
+  std::vector<std::pair<int, int>> kept_spans, runs;
   for (int r = 0; r < layout_.height_px; ++r) {
     auto& row_spans = w.spans[static_cast<std::size_t>(r)];
+    bool per_pixel = false;
+    for (const auto& k : cd.clauses) {
+      if (row_spans.empty()) break;
+      if (k.kind != TrimKind::kShell) {
+        per_pixel = per_pixel || k.kind == TrimKind::kVolume;
+        continue;
+      }
+      const auto slot = static_cast<std::size_t>(k.shell_slot);
+      const auto& xs = w.shell_rows[slot][static_cast<std::size_t>(r)];
+      if ((k.mesh->gap_tolerant() && xs.size() % 2 == 1) || (k.mesh->winding() && k.mesh->cone_count() > 0)) {
+        per_pixel = true;
+        continue;
+      }
+      detail::crossing_runs(xs, k.mesh->winding() ? &w.shell_row_windings[slot][static_cast<std::size_t>(r)] : nullptr,
+                            k.side == TrimSide::kInside, layout_, runs);
+      detail::intersect_row(row_spans, runs, kept_spans);
+      row_spans.swap(kept_spans);
+    }
+    if (!per_pixel || row_spans.empty()) continue;
     kept_spans.clear();
     for (const auto& [c0, c1] : row_spans)
       for (int col = c0; col <= c1; ++col) {
@@ -170,7 +191,7 @@ void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) con
         else
           kept_spans.push_back({col, col});
       }
-    row_spans = kept_spans;
+    row_spans.swap(kept_spans);
   }
 }
 
