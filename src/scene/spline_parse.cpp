@@ -299,6 +299,12 @@ TensorSpline parse_and_apply_placement(const JsonView& node, const TensorSpline&
   });
 }
 
+std::vector<Vec3> parse_and_apply_placement(const JsonView& node, std::vector<Vec3> points) {
+  const Affine f = parse_placement(node);
+  for (Vec3& p : points) p = f.a * p + f.t;
+  return points;
+}
+
 Volume parse_and_apply_placement(const JsonView& node, const Volume& volume) {
   return Volume(parse_and_apply_placement(node, volume.spline()));
 }

@@ -106,10 +106,17 @@ void Slicer::cut_trimming_shells(LayerWork& w) const {
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses)
       if (k.shell_slot >= 0) {
+        const auto slot = static_cast<std::size_t>(k.shell_slot);
+        if (w.shell_rows.size() <= slot) w.shell_rows.resize(slot + 1);
+        if (k.mesh->winding()) {
+          // A mesh trim by the winding-number rule: the crossings signed (shell_mesh.h).
+          if (w.shell_row_windings.size() <= slot) w.shell_row_windings.resize(slot + 1);
+          k.mesh->mesh().cut(w.stats.z_mm, w.segments, w.directions);
+          detail::shell_row_windings(w.segments, w.directions, layout_, w.shell_rows[slot], w.shell_row_windings[slot]);
+          continue;
+        }
         k.mesh->mesh().cut(w.stats.z_mm, w.segments);
-        if (w.shell_rows.size() <= static_cast<std::size_t>(k.shell_slot))
-          w.shell_rows.resize(static_cast<std::size_t>(k.shell_slot) + 1);
-        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[static_cast<std::size_t>(k.shell_slot)]);
+        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[slot]);
       }
 }
 
@@ -123,11 +130,18 @@ bool Slicer::passes_model_space_clauses(const CellData& cd, int col, int row, co
                            static_cast<std::size_t>(col)] != 0;
     } else if (k.kind == TrimKind::kShell) {
       const auto& xs = w.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
-      // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
-      // times: its pixels are decided by the shell's vote (shell_mesh.h).
-      in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
-               ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
-               : detail::inside_crossings(xs, L.x_of_col(col));
+      if (k.mesh->winding()) {
+        const auto& windings =
+            w.shell_row_windings[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
+        const double x = L.x_of_col(col);
+        in = k.mesh->winding_inside(detail::winding_beyond(xs, windings, x), {x, L.y_of_row(row), w.stats.z_mm});
+      } else {
+        // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
+        // times: its pixels are decided by the shell's vote (shell_mesh.h).
+        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
+                 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
+                 : detail::inside_crossings(xs, L.x_of_col(col));
+      }
     } else {
       continue;
     }
@@ -151,11 +165,32 @@ bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
 }
 
 // Only pixels that pass the volume and shell clauses are worth inverting: those clauses are
-// decided without this cell's inverse.
+// decided without this cell's inverse. A shell clause whose row its crossings decide alone
+// (not a row through a seam's gap, nor a winding-number mesh with cones) is applied to the
+// row's spans a stretch between crossings at a time; the other clauses pixel by pixel.
 void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) const {
-  std::vector<std::pair<int, int>> kept_spans;
+  std::vector<std::pair<int, int>> kept_spans, runs;
   for (int r = 0; r < layout_.height_px; ++r) {
     auto& row_spans = w.spans[static_cast<std::size_t>(r)];
+    bool per_pixel = false;
+    for (const auto& k : cd.clauses) {
+      if (row_spans.empty()) break;
+      if (k.kind != TrimKind::kShell) {
+        per_pixel = per_pixel || k.kind == TrimKind::kVolume;
+        continue;
+      }
+      const auto slot = static_cast<std::size_t>(k.shell_slot);
+      const auto& xs = w.shell_rows[slot][static_cast<std::size_t>(r)];
+      if ((k.mesh->gap_tolerant() && xs.size() % 2 == 1) || (k.mesh->winding() && k.mesh->cone_count() > 0)) {
+        per_pixel = true;
+        continue;
+      }
+      detail::crossing_runs(xs, k.mesh->winding() ? &w.shell_row_windings[slot][static_cast<std::size_t>(r)] : nullptr,
+                            k.side == TrimSide::kInside, layout_, runs);
+      detail::intersect_row(row_spans, runs, kept_spans);
+      row_spans.swap(kept_spans);
+    }
+    if (!per_pixel || row_spans.empty()) continue;
     kept_spans.clear();
     for (const auto& [c0, c1] : row_spans)
       for (int col = c0; col <= c1; ++col) {
@@ -165,7 +200,7 @@ void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) con
         else
           kept_spans.push_back({col, col});
       }
-    row_spans = kept_spans;
+    row_spans.swap(kept_spans);
   }
 }
 

@@ -96,9 +96,12 @@ struct Slicer::LayerWork {
   std::vector<std::vector<detail::TracedRow>> traced_rows;   // per trivariate (empty unless traced first)
   std::vector<std::vector<std::uint8_t>> traced_inside;      // per trivariate, width x height
   std::vector<std::vector<std::vector<double>>> shell_rows;  // per cut shell: crossings per row
+  // Per cut shell decided by its winding number: the windings beyond each crossing, per row.
+  std::vector<std::vector<std::vector<int>>> shell_row_windings;
 
   // Scratch.
   std::vector<Segment2> segments;
+  std::vector<int> directions;
   detail::RowSpans spans, outline_spans;
   std::vector<std::array<Vec3, 3>> slab_triangles;
   detail::TracedRow kept;
