@@ -191,12 +191,24 @@ void run_expression(std::span<const std::uint8_t> data) {
 
 namespace {
 
-// The memory the fuzzed jobs may use, as `trivox slice --memory-limit 256` gives it.
+// The memory the fuzzed jobs may use beyond what the process holds when the input starts
+// (the fuzzer's own corpus, a sanitizer's shadow), as `trivox slice --memory-limit` gives it.
 constexpr std::uint64_t kPipelineMemoryLimit = 256'000'000;
-// Jobs of more pixels are prepared (set-up, estimate) but not sliced: the fuzzer's 10 s hold
-// for jobs up to 1e6 pixels of a cubic volume (a pixel of a higher order volume costs more
-// evaluations: the limit shrinks with the orders' product).
+// Jobs of more pixels are not sliced: the fuzzer's 10 s hold for jobs up to 1e6 pixels of a
+// cubic volume (a pixel of a higher order volume costs more evaluations: the limit shrinks
+// with the orders' product). The set-up's outline meshes cost about two evaluations per
+// pixel of the whole model's faces, however few layers are sliced, so a model whose control
+// points' box has more face pixels than that is not even prepared.
 constexpr double kPipelinePixels = 1e6;
+
+// Pixels of the six faces of `box` at the printer's resolution (the outline meshes' budget,
+// slicer.cpp).
+double face_pixels(const Box3& box, const PrinterProfile& printer) {
+  const Vec3 size = box.size();
+  const double w = size.x / printer.pitch_x_mm() + 1, h = size.y / printer.pitch_y_mm() + 1,
+               l = size.z / printer.layer_thickness_mm + 1;
+  return 2 * (w * h + h * l + l * w);
+}
 
 std::uint64_t resident_bytes_now() {
   std::ifstream statm("/proc/self/statm");
@@ -222,7 +234,16 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     sp.tracing = parse_tracing_strategy(job.tracing).value_or(TracingStrategy::kFlood);
     sp.newton.residual_tolerance_model = job.residual_tolerance_mm;
     sp.outline_tolerance_mm = job.outline_tolerance_mm;
-    sp.memory_limit_bytes = kPipelineMemoryLimit;
+    const std::uint64_t memory_limit = resident_bytes_now() + kPipelineMemoryLimit;
+    sp.memory_limit_bytes = memory_limit;
+    double order_product = 1, model_face_pixels = 0;
+    for (const Cell& c : scene.cells) {
+      const auto o = c.volume.orders();
+      order_product = std::max(order_product, static_cast<double>(o[0]) * o[1] * o[2]);
+      model_face_pixels += face_pixels(c.volume.bounds(), scene.printer);
+    }
+    // (NaN, from a box beyond the doubles, counts as too large.)
+    if (!(model_face_pixels * order_product / 64.0 <= kPipelinePixels)) return finish(PipelineOutcome::Kind::kTooLarge);
     const Slicer slicer(scene, sp);
     const SliceLayout& L = slicer.layout();
     JobParams jp;
@@ -233,18 +254,13 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     jp.last_layer = std::min(L.num_layers - 1, jp.first_layer + job.layer_count - 1);
     jp.min_layers = 0;
     jp.threads = job.threads;
-    double order_product = 1;
-    for (const Cell& c : scene.cells) {
-      const auto o = c.volume.orders();
-      order_product = std::max(order_product, static_cast<double>(o[0]) * o[1] * o[2]);
-    }
     const double pixels =
         static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1) * order_product / 64.0;
     outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
     if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
     const std::uint64_t resident = resident_bytes_now();
-    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, kPipelineMemoryLimit});
-    check_job_fits(e, jp, kPipelineMemoryLimit, std::nullopt);
+    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, memory_limit});
+    check_job_fits(e, jp, memory_limit, std::nullopt);
 #ifdef TRIVOX_FUZZ_HEAP
     const long long heap_before = g_heap_bytes.load();
     g_heap_peak.store(heap_before);

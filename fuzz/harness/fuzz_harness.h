@@ -45,13 +45,14 @@ void run_scene(std::span<const std::uint8_t> data, const std::filesystem::path& 
 void run_expression(std::span<const std::uint8_t> data);
 
 // The whole pipeline (pipeline_job.h): a valid scene with extreme values generated from the
-// bytes, read, prepared for slicing within a 256 MB memory limit, estimated and checked like
-// `trivox slice` does, then 1 to 3 of its layers sliced into `work_dir`/job in every format
-// asked. It must end in a result or a documented error; a completed job must pass
-// verify_output; and in builds with AddressSanitizer the heap the job itself grows by must
-// stay within 1.5 times the job's own memory estimate plus 64 MB. Jobs of more than 1e6
-// pixels are prepared but not sliced (the time limit of the fuzzer, 10 s, holds for those
-// up to 1e6 pixels).
+// bytes, read, prepared for slicing within a memory limit of 256 MB beyond what the process
+// holds, estimated and checked like `trivox slice` does, then 1 to 3 of its layers sliced
+// into `work_dir`/job in every format asked. It must end in a result or a documented error;
+// a completed job must pass verify_output; and in builds with AddressSanitizer the heap the
+// job itself grows by must stay within 1.5 times the job's own memory estimate plus 64 MB.
+// Jobs of more than 1e6 pixels (weighted by the orders) are not sliced, and models whose
+// faces span more than 1e6 pixels not prepared: the fuzzer's time limit, 10 s, holds for
+// those within.
 struct PipelineOutcome {
   enum class Kind {
     kRefused,   // a documented error: bad or unworkable input, or too large for the limits

@@ -48,6 +48,15 @@ class CellTracer {
  public:
   // Rows traced at once by default: enough independent evaluations to fill the core.
   static constexpr int kDefaultRowsInFlight = 4;
+  // Bytes a row of the ring holds per column of the bitmap (Row's per-column vectors and its
+  // reserved output), and a traced pixel's bytes in a TracedRow.
+  static constexpr std::size_t kRowBytesPerColumn =
+      sizeof(Vec3) + 1 + sizeof(std::int32_t) + 2 * sizeof(Mat3) + sizeof(int) + 2 * sizeof(Vec3);
+  static constexpr std::size_t kTracedBytesPerPixel = sizeof(int) + 2 * sizeof(Vec3);
+  // What a tracer built with `rows_in_flight` holds for a bitmap `width_px` wide.
+  static constexpr std::uint64_t ring_bytes(int width_px, int rows_in_flight = kDefaultRowsInFlight) {
+    return static_cast<std::uint64_t>(rows_in_flight + 1) * static_cast<std::uint64_t>(width_px) * kRowBytesPerColumn;
+  }
 
   // `folded`: the volume folds and the scene accepts it (docs/SCENE.md, "Folded cells"): every
   // candidate is decided by the global solver, which finds all its preimages, and takes the

@@ -34,7 +34,7 @@ std::uint64_t resident_bytes() {
 // What one worker holds while it slices and writes a layer: the material fractions (float
 // per material per pixel), the inside mask and the labels (a byte per pixel each), the
 // dithering's working copy of the fractions, and the largest encoder buffer (RGBA: 4 bytes
-// per pixel).
+// per pixel); the tracing's own share comes from Slicer::tracing_bytes_per_worker.
 std::uint64_t worker_bytes(std::uint64_t pixels, int materials) {
   return pixels * (2u * 4u * static_cast<std::uint64_t>(materials) + 1u + 1u + 4u);
 }
@@ -89,7 +89,8 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   e.pixels = static_cast<std::int64_t>(layer_pixels * static_cast<std::uint64_t>(e.job_layers));
   e.threads = worker_count(params.threads);
   e.peak_memory_bytes = resident_bytes() + static_cast<std::uint64_t>(std::min(e.threads, std::max(1, e.job_layers))) *
-                                               worker_bytes(layer_pixels, slicer.scene().num_materials());
+                                               (worker_bytes(layer_pixels, slicer.scene().num_materials()) +
+                                                slicer.tracing_bytes_per_worker());
 
   const int samples = std::min(ep.sample_layers, e.model_layers);
   if (samples <= 0) return e;

@@ -249,4 +249,12 @@ void Slicer::build_meshes(double finest_pitch_mm) {
   }
 }
 
+std::uint64_t Slicer::tracing_bytes_per_worker() const noexcept {
+  const auto pixels = static_cast<std::uint64_t>(layout_.width_px) * static_cast<std::uint64_t>(layout_.height_px);
+  std::uint64_t bytes = detail::CellTracer::ring_bytes(layout_.width_px);
+  for (const auto& tv : trivariates_)
+    if (tv->traced_first) bytes += pixels * detail::CellTracer::kTracedBytesPerPixel;
+  return bytes;
+}
+
 }  // namespace trivox
