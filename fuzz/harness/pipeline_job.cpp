@@ -58,8 +58,10 @@ json printer(ByteChoices& c, bool& resin) {
 
 // One direction's order and clamped knots on [0, 1]: repeated interior knots up to the order.
 json knot_vector(ByteChoices& c, int& order, int& count) {
-  // Mostly low orders, sometimes up to 16.
-  order = c.pick(4) == 0 ? 1 + c.pick(16) : 1 + c.pick(4);
+  // Mostly low orders, sometimes up to 16; order 1 (a volume without interior, which the
+  // scene reader refuses) rarely.
+  const int kind = c.pick(16);
+  order = kind == 15 ? 1 : kind < 4 ? 2 + c.pick(15) : 2 + c.pick(3);
   std::vector<double> knots(static_cast<std::size_t>(order), 0.0);
   const int interior = c.pick(3);
   std::vector<double> breaks;

@@ -2,6 +2,8 @@
 // built from curves and surfaces by one of the constructors of include/trivox/construct/.
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <string_view>
 
@@ -16,6 +18,7 @@
 #include "trivox/construct/sweep.h"
 #include "trivox/construct/untangle.h"
 #include "trivox/error.h"
+#include "trivox/spline/jacobian_check.h"
 
 namespace trivox::detail {
 
@@ -275,6 +278,19 @@ bool is_constructed_geometry(const JsonView& node) {
   for (std::string_view k : kConstructors)
     if (node.find(k)) return true;
   return false;
+}
+
+void refuse_without_interior(const Volume& volume, const JacobianReport& jacobian, const std::string& what,
+                             const JsonView& geometry, double pixel_mm) {
+  if (jacobian.zero != jacobian.positive + jacobian.negative + jacobian.zero) return;
+  const Box3 box = volume.bounds();
+  const double far = std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.hi.x),
+                               std::abs(box.hi.y), std::abs(box.hi.z)});
+  if (!(far * std::numeric_limits<double>::epsilon() <= 1e-3 * pixel_mm)) return;
+  geometry.fail(
+      fmt::format("{} has no interior: det J vanishes at all {} samples (a direction of order 1, or "
+                  "control points all on one plane, line or point), so it holds no voxel",
+                  what, jacobian.zero));
 }
 
 bool geometry_allows_fold(const JsonView& geometry) {

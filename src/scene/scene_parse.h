@@ -20,6 +20,7 @@
 #include "trivox/material/material_function.h"
 #include "trivox/material/scalar_gradient_material.h"
 #include "trivox/scene/scene.h"
+#include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
@@ -103,6 +104,12 @@ bool is_constructed_geometry(const JsonView& node);
 // file's "file" and "patch": the user accepts a volume that folds over itself, sliced by the
 // fold rules (docs/SCENE.md, "Folded cells").
 bool geometry_allows_fold(const JsonView& geometry);
+// Fails on `geometry` when the sampled det J of `volume` (a cell or named volume called
+// `what`) vanishes at every sample: it has no interior and can own no voxel. Where the
+// volume lies too far from the origin for a double to resolve a thousandth of `pixel_mm`, its
+// control points may have merged by rounding alone; the slicer refuses that with its reason.
+void refuse_without_interior(const Volume& volume, const JacobianReport& jacobian, const std::string& what,
+                             const JsonView& geometry, double pixel_mm);
 // The volume a constructor builds, with its report; fails naming the field when an input is
 // wrong (a fold is in the report, not an error).
 Constructed parse_construction(const JsonView& node, SceneContext& ctx);

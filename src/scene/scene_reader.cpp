@@ -306,8 +306,9 @@ void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& sce
 // scene is read (the sampled check of jacobian_check.h; left-handed and degenerate cells are
 // valid), unless its geometry says "allow_fold": then it is sliced by the fold rules
 // (docs/SCENE.md, "Folded cells"). Returns whether the cell folds.
-bool check_folds(const Volume& volume, const std::string& cell, const JsonView& geometry) {
+bool check_folds(const Volume& volume, const std::string& cell, const JsonView& geometry, double pixel_mm) {
   const JacobianReport r = check_jacobian(volume);
+  detail::refuse_without_interior(volume, r, fmt::format("cell '{}'", cell), geometry, pixel_mm);
   if (r.classification != JacobianClass::kFolded) return false;
   if (detail::geometry_allows_fold(geometry)) return true;
   std::string where;
@@ -363,7 +364,7 @@ void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) 
     for (detail::GeometryPart& part : detail::parse_geometry(c.at("geometry"), ctx)) {
       Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume) : std::move(part.volume);
       std::string name = part.label.empty() ? base_name : base_name + "/" + part.label;
-      const bool folds = check_folds(volume, name, c.at("geometry"));
+      const bool folds = check_folds(volume, name, c.at("geometry"), ctx.pixel_mm());
       Trim trim;
       if (const auto t = c.find("trim")) trim = detail::parse_trim(*t, ctx, scene.volumes, -1);
       add_cell(scene, ctx, c, name_field, std::move(name), std::move(volume), material, -1, std::move(trim), folds);

@@ -70,6 +70,30 @@ TEST(CliExtremeInput, AnOutlineToleranceFarBelowAPixelStaysWithinTheMemoryLimit)
   EXPECT_LT(children_peak_mb(), 1500.0);
 }
 
+// A cell without interior (det J zero everywhere): once sliced pixel by pixel by the global
+// solver over a continuum of preimages, a minute for one layer of a 50 m tall sheet.
+TEST(CliExtremeInput, ACellWithoutInteriorIsRefusedWhenTheSceneIsRead) {
+  const std::string flat_u = R"({"orders": [1, 2, 2], "knots": [[0, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+   "points": [[0, 0, 0], [0, 50000, 0], [0, 0, 0.2], [0, 50000, 0.2]]})";
+  const std::string one_point = R"({"orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+   "points": [[1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3], [1, 2, 3]]})";
+  for (const std::string& geometry : {flat_u, one_point}) {
+    ScratchDir dir;
+    write_text(dir.path() / "flat.json", fmt::format(R"({{"version": 1, "units": "mm", "printer": "j750-hm",
+ "materials": [{{"name": "VeroCyan"}}],
+ "cells": [{{"name": "sheet", "geometry": {}, "material": "VeroCyan"}}]}})",
+                                                     geometry));
+    const auto start = std::chrono::steady_clock::now();
+    const CliResult r = run_cli(
+        fmt::format("slice {} -o {} -q", shell_quote(dir.path() / "flat.json"), shell_quote(dir.path() / "out")));
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("/cells/0/geometry: cell 'sheet' has no interior: det J vanishes at all"), std::string::npos)
+        << r.err;
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+    EXPECT_FALSE(fs::exists(dir.path() / "out" / "manifest.json"));
+  }
+}
+
 TEST(CliExtremeInput, AModelTooFarFromTheOriginIsRefusedUpFrontWithTheReason) {
   for (const char* translate : {"[5e307, 5e307, 3]", "[1e17, 0, 0]"}) {
     ScratchDir dir;

@@ -266,7 +266,11 @@ TEST(SceneExamples, EverySceneSnippetOfTheDocsReads) {
       continue;
     }
     try {
-      evaluate_cells(parse_scene(scene.dump(), kDocs / "SCENE.md"));
+      // Snippets that read ../shared name it from docs/ ("../../shared") or as the scenes of
+      // examples/shared_scenes do ("../../../shared").
+      const bool shared = b.text.find("../../../shared/data/") != std::string::npos;
+      evaluate_cells(parse_scene(
+          scene.dump(), shared ? kExamples.parent_path() / "shared_scenes" / "snippet.json" : kDocs / "SCENE.md"));
       ++read[what];
     } catch (const Error& e) {
       ADD_FAILURE() << e.what() << "\n" << b.text;
