@@ -1,5 +1,7 @@
 // The trivox program: registers the subcommands (commands.h) and is the only place where
 // errors become messages on standard error and exit codes (cli_errors.h, docs/CLI.md).
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -15,8 +17,25 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "trivox/error.h"
+#include "trivox/version.h"
 
 namespace {
+
+// What --version prints (docs/CLI.md, "--version"): enough to identify the build in a bug
+// report. The program adds CLI11, which only it links, to the library's list.
+std::string version_text() {
+  trivox::BuildInfo b = trivox::build_info();
+  b.libraries.emplace_back("CLI11",
+                           fmt::format("{}.{}.{}", CLI11_VERSION_MAJOR, CLI11_VERSION_MINOR, CLI11_VERSION_PATCH));
+  std::sort(b.libraries.begin(), b.libraries.end(), [](const auto& x, const auto& y) {
+    return std::lexicographical_compare(x.first.begin(), x.first.end(), y.first.begin(), y.first.end(),
+                                        [](char a, char c) { return std::tolower(a) < std::tolower(c); });
+  });
+  std::string text = fmt::format("trivox {}\ncommit: {}\nbuild type: {}\ncompiler: {}\nlibraries:", b.version, b.commit,
+                                 b.build_type, b.compiler);
+  for (const auto& [name, version] : b.libraries) text += fmt::format("\n  {} {}", name, version);
+  return text;
+}
 
 int fail(trivox::cli::ExitCode code, std::string_view kind, std::string_view message) {
   std::fflush(stdout);  // keep what was printed before the error ahead of it in a shared log
@@ -35,6 +54,11 @@ int main(int argc, char** argv) {
         "trivox"};
     app.require_subcommand(1);
     for (const AddCommand add : kCommands) add(app);
+    // --version on the program and on every subcommand (`trivox slice --version` too).
+    const char* version_help = "Print the version, git commit, build type, compiler and libraries, and exit";
+    app.set_version_flag("--version", version_text, version_help);
+    for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+      sub->set_version_flag("--version", version_text, version_help);
     // CLI11 reports a misspelt command as "A subcommand is required"; name it instead.
     if (argc > 1 && argv[1][0] != '-') {
       std::string names;
