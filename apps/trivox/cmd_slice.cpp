@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
+#include "trivox/slice/job_lock.h"
 #include "trivox/slice/manifest.h"
 
 namespace trivox::cli {
@@ -87,35 +89,48 @@ std::uint64_t bytes_already_written(const JobParams& job) {
   return bytes;
 }
 
-// A job that fails on its input (a fraction sum above 1 met in layer 200) must not leave a
-// half-written stack that looks like a result. The folder is put back as it was found when
-// it was absent or empty; a folder that already held files is left alone, since they are
-// not this job's to delete. Write errors keep the completed layers: the manifest then says
-// the job failed, and --resume finishes it once there is room.
-class OutputRollback {
+// The output folder, locked for this job (job_lock.h) before the scene is read, so that a
+// second job into the same folder is refused at once.
+//
+// A job that fails on its input (a fraction sum above 1 met in layer 200, or a scene that
+// does not read) must not leave a half-written stack that looks like a result. The folder is
+// put back as it was found when it was absent or empty; a folder that already held files is
+// left alone, since they are not this job's to delete. Write errors keep the completed
+// layers: the manifest then says the job failed, and --resume finishes it once there is
+// room. The files are removed while the lock is still held, so that they cannot be another
+// job's.
+class LockedOutputFolder {
  public:
-  explicit OutputRollback(std::filesystem::path dir) : dir_(std::move(dir)) {
+  LockedOutputFolder(std::filesystem::path dir, int shard_index, int shard_count) : dir_(std::move(dir)) {
     std::error_code ec;
     existed_ = std::filesystem::exists(dir_, ec);
     was_empty_ = existed_ && std::filesystem::is_directory(dir_, ec) && std::filesystem::is_empty(dir_, ec);
-  }
-  OutputRollback(const OutputRollback&) = delete;
-  OutputRollback& operator=(const OutputRollback&) = delete;
-  ~OutputRollback() {
-    if (committed_ || (existed_ && !was_empty_)) return;
-    std::error_code ec;
-    if (!existed_) {
-      std::filesystem::remove_all(dir_, ec);
-      return;
+    try {
+      lock_.emplace(dir_, shard_index, shard_count);
+    } catch (const IoError&) {
+      // A folder that cannot be created holds no other job: the checks that follow report it
+      // (the disk check names the space there), or the job itself, which locks it then.
     }
-    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
-      std::filesystem::remove_all(entry.path(), ec);
   }
+  LockedOutputFolder(const LockedOutputFolder&) = delete;
+  LockedOutputFolder& operator=(const LockedOutputFolder&) = delete;
+  ~LockedOutputFolder() {
+    const bool roll_back = !committed_ && (!existed_ || was_empty_);
+    std::error_code ec;
+    if (roll_back)
+      for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
+        if (!entry.path().filename().string().starts_with(".trivox")) std::filesystem::remove_all(entry.path(), ec);
+    lock_.reset();                                                  // removes the lock files
+    if (roll_back && !existed_) std::filesystem::remove(dir_, ec);  // only when nothing else came in
+  }
+  // The lock, or nullptr when the folder could not be created.
+  const JobFolderLock* lock() const { return lock_ ? &*lock_ : nullptr; }
   void commit() noexcept { committed_ = true; }
 
  private:
   std::filesystem::path dir_;
   bool existed_ = false, was_empty_ = false, committed_ = false;
+  std::optional<JobFolderLock> lock_;
 };
 
 void run(const SliceOptions& so) {
@@ -127,6 +142,12 @@ void run(const SliceOptions& so) {
   job.resume = so.resume;
   job.stop = &g_stop;
   job.manifest_interval_seconds = so.manifest_interval_s;
+  // One job per folder: refused here, before the scene is read, when another job holds it.
+  LockedOutputFolder folder(job.output_dir, job.shard_index, job.shard_count);
+  job.folder_lock = folder.lock();
+  if (job.folder_lock && job.folder_lock->taken_over_from() && !so.quiet)
+    fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n",
+               *job.folder_lock->taken_over_from());
 
   const Scene scene = read_scene(o.scene, &g_stop);
   warn_about_printer(scene);
@@ -156,15 +177,14 @@ void run(const SliceOptions& so) {
   TerminalProgress progress(so.quiet);
   // A job that fails on its input part way leaves no partial stack behind; one that fails
   // to write (a full disk) or is stopped keeps what it completed for --resume.
-  OutputRollback rollback(job.output_dir);
   JobStats st;
   try {
     st = run_slice_job(slicer, job, &progress);
   } catch (const IoError&) {
-    rollback.commit();
+    folder.commit();
     throw;
   }
-  rollback.commit();
+  folder.commit();
   const std::string manifest =
       (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
   if (st.interrupted)

@@ -7,6 +7,7 @@
 #include <fmt/ranges.h>
 
 #include "cli_errors.h"
+#include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
 
 namespace trivox::cli {
@@ -145,6 +146,10 @@ JobParams job_params_of(const JobOptions& o) {
   job.output_dir = o.output;
   job.threads = o.threads;
   job.formats = o.formats;
+  // Before anything is read: a prefix that is a path would write outside -o (exit 3).
+  if (const auto problem = file_name_part_problem(o.prefix))
+    throw Error(fmt::format("--prefix {}: the prefix becomes part of every layer file's name: {}", shown_name(o.prefix),
+                            *problem));
   job.prefix = o.prefix;
   job.min_layers = o.min_layers;
   if (!o.background.empty()) {

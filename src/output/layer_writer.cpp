@@ -153,12 +153,13 @@ std::unique_ptr<LayerWriter> make_bitmaps_writer(const OutputContext& context) {
 struct LayerWriterFormat {
   std::string_view name;
   std::unique_ptr<LayerWriter> (*make)(const OutputContext&);
+  bool names_files_by_material = false;
 };
 constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"voxelprint",
      [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); }},
-    {"bitmaps", make_bitmaps_writer},
-    {"legacy", detail::make_legacy_bitmap_writer},
+    {"bitmaps", make_bitmaps_writer, true},
+    {"legacy", detail::make_legacy_bitmap_writer, true},
     {"tiff", detail::make_tiff_stack_writer},
     {"vdb", detail::make_vdb_writer},
     {"gcvf", detail::make_gcvf_writer},
@@ -174,6 +175,24 @@ std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const Ou
   for (const LayerWriterFormat& f : kLayerWriterFormats)
     if (f.name == format) return f.make(context);
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
+}
+
+bool layer_writer_names_files_by_material(std::string_view format) {
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.names_files_by_material;
+  return false;
+}
+
+std::optional<std::string> file_name_part_problem(std::string_view text) {
+  if (text.size() > kMaxFileNamePartBytes)
+    return fmt::format("it is {} bytes long, and at most {} go into a file name", text.size(), kMaxFileNamePartBytes);
+  if (text.find('/') != std::string_view::npos) return std::string("it holds '/', a folder separator");
+  if (text.find('\\') != std::string_view::npos) return std::string("it holds '\\', a folder separator on Windows");
+  if (text.find("..") != std::string_view::npos) return std::string("it holds \"..\", the parent folder");
+  for (char c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      return fmt::format("it holds the control character 0x{:02X}", static_cast<unsigned char>(c));
+  return std::nullopt;
 }
 
 std::vector<std::string> layer_writer_names() {

@@ -18,6 +18,7 @@
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
 #include "trivox/parallel.h"
+#include "trivox/slice/job_lock.h"
 #include "trivox/version.h"
 
 namespace trivox {
@@ -123,6 +124,19 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (scene.num_materials() > scene.printer.max_materials)
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
+  // Names are not paths: what goes into a file name keeps every file inside the folder.
+  if (const auto problem = file_name_part_problem(params.prefix))
+    throw Error(
+        fmt::format("the file-name prefix {} cannot be part of a file name: {}", shown_name(params.prefix), *problem));
+  for (const std::string& format : params.formats) {
+    if (!layer_writer_names_files_by_material(format)) continue;
+    for (std::size_t j = 0; j < scene.materials.size(); ++j)
+      if (const auto problem = file_name_part_problem(scene.materials[j].name))
+        throw Error(
+            fmt::format("{}: /materials/{}/name: the material {} names the files of output '{}', so it "
+                        "cannot be part of a file name: {}",
+                        scene.source, j, shown_name(scene.materials[j].name), format, *problem));
+  }
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(
         fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
@@ -170,6 +184,9 @@ class JobRun {
   std::vector<std::string> write_layer(int index, const LabelImage& labels, const GreyImage& grey,
                                        bool stacks_only) const;
 
+  // The folder's lock when the caller holds none (JobParams::folder_lock); first, so that it
+  // is released last, after the writers have removed their spool files.
+  std::optional<JobFolderLock> own_lock_;
   const Slicer& slicer_;
   const JobParams& params_;
   ProgressSink* progress_;
@@ -193,6 +210,18 @@ class JobRun {
 
 void JobRun::open_folder() {
   std::error_code ec;
+  // One job per folder: the lock is taken before anything in the folder is read or written.
+  if (params_.folder_lock == nullptr) {
+    own_lock_.emplace(params_.output_dir, params_.shard_index, params_.shard_count);
+  } else {
+    const JobFolderLock& lock = *params_.folder_lock;
+    if (std::filesystem::weakly_canonical(lock.dir(), ec) !=
+            std::filesystem::weakly_canonical(params_.output_dir, ec) ||
+        lock.shard_index() != params_.shard_index || lock.shard_count() != params_.shard_count)
+      throw Error(fmt::format("the folder lock held is for {} (shard {}/{}), not for {} (shard {}/{})",
+                              lock.dir().string(), lock.shard_index(), lock.shard_count(), params_.output_dir.string(),
+                              params_.shard_index, params_.shard_count));
+  }
   std::filesystem::create_directories(params_.output_dir, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", params_.output_dir.string(), ec.message()));
   manifest_ = job_manifest(slicer_, params_);

@@ -6,12 +6,11 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <optional>
 
 #include "trivox/output/png_io.h"
 #include "trivox/printer/printer_profile.h"
@@ -141,6 +140,16 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 //               display, thumbnails); a stack output; the printer profile must have a display.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
+// Whether `format` puts the materials' names into its file names ("bitmaps", "legacy").
+bool layer_writer_names_files_by_material(std::string_view format);
+
+// The longest text (bytes) the job puts into a file name from its settings or the scene: the
+// prefix, a material's name.
+inline constexpr std::size_t kMaxFileNamePartBytes = 100;
+// Why `text` cannot become part of an output file's name, or nullopt when it can: a name is
+// never a path, so it holds no '/', no '\\', no "..", no control character, and at most
+// kMaxFileNamePartBytes bytes; a file named with it then always lies in the output folder.
+std::optional<std::string> file_name_part_problem(std::string_view text);
 
 // Feeds one layer to a writer: write_grey_layer for one that takes the grey image, else
 // write_layer.
