@@ -124,7 +124,7 @@ class LockedOutputFolder {
     if (roll_back && !existed_) std::filesystem::remove(dir_, ec);  // only when nothing else came in
   }
   // The lock, or nullptr when the folder could not be created.
-  const JobFolderLock* lock() const { return lock_ ? &*lock_ : nullptr; }
+  JobFolderLock* lock() { return lock_ ? &*lock_ : nullptr; }
   void commit() noexcept { committed_ = true; }
 
  private:

@@ -172,21 +172,40 @@ class JobRun {
   void slice_layers();
   // The whole-job files, the manifest's final status and stats.json.
   JobStats finish(std::chrono::steady_clock::time_point start);
+  // make_writers, slice_layers and finish; whatever fails in them (a full disk, a layer's
+  // input) is recorded in the manifest as the job's failure.
+  JobStats write(std::chrono::steady_clock::time_point start) {
+    try {
+      make_writers();
+      slice_layers();
+      return finish(start);
+    } catch (const std::exception& e) {
+      mark_failed(e);
+      throw;
+    }
+  }
 
  private:
   void slice_one(std::size_t task);
   void slice_and_write(std::size_t task);
   void record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats);
   bool stop_requested() const { return cancelled_ || (params_.stop != nullptr && params_.stop->load()); }
-  // Records what was completed so that --resume redoes only the rest. The manifest may be
-  // unwritable too (a full disk); the previous one then stands, which is still consistent.
+  // Records what was completed so that --resume redoes only the rest, once this run has
+  // written its manifest (before that, the folder's manifest, if any, is not this run's to
+  // change). A full disk leaves no room for it: the space the lock file holds in reserve is
+  // given back for this one write. Should even that fail, the previous manifest stands,
+  // which is still consistent.
   void mark_failed(const std::exception& e) noexcept;
+  // Writes the manifest and keeps the reserve for a failure's manifest at twice its size
+  // (layers recorded since the last write make the failure's manifest longer).
+  void save_manifest();
   std::vector<std::string> write_layer(int index, const LabelImage& labels, const GreyImage& grey,
                                        bool stacks_only) const;
 
   // The folder's lock when the caller holds none (JobParams::folder_lock); first, so that it
   // is released last, after the writers have removed their spool files.
   std::optional<JobFolderLock> own_lock_;
+  JobFolderLock* lock_ = nullptr;  // own_lock_ or JobParams::folder_lock
   const Slicer& slicer_;
   const JobParams& params_;
   ProgressSink* progress_;
@@ -205,6 +224,8 @@ class JobRun {
   std::mutex record_mutex_;
   int done_ = 0;
   std::atomic<bool> cancelled_{false};  // a layer threw CancelledError
+  bool manifest_written_ = false;       // this run has written the manifest
+  bool failure_recorded_ = false;
   std::chrono::steady_clock::time_point last_manifest_write_ = std::chrono::steady_clock::now();
 };
 
@@ -212,8 +233,9 @@ void JobRun::open_folder() {
   std::error_code ec;
   // One job per folder: the lock is taken before anything in the folder is read or written.
   if (params_.folder_lock == nullptr) {
-    own_lock_.emplace(params_.output_dir, params_.shard_index, params_.shard_count);
+    lock_ = &own_lock_.emplace(params_.output_dir, params_.shard_index, params_.shard_count);
   } else {
+    lock_ = params_.folder_lock;
     const JobFolderLock& lock = *params_.folder_lock;
     if (std::filesystem::weakly_canonical(lock.dir(), ec) !=
             std::filesystem::weakly_canonical(params_.output_dir, ec) ||
@@ -264,7 +286,7 @@ void JobRun::make_writers() {
   if (any_stack_)
     for (int index = 0; index < range_.total(); ++index)
       if (kept_[static_cast<std::size_t>(index)]) refeed_.push_back(index);
-  write_manifest(manifest_path_, manifest_);
+  save_manifest();
   // The colour-to-material sheet depends only on the scene and the settings: written first,
   // listed with the whole-job files when the job completes.
   write_material_sheet(params_.output_dir / sheet_name_, ctx.background_rgba,
@@ -322,33 +344,46 @@ void JobRun::record(int index, std::vector<std::string> written, std::optional<L
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_manifest_write_).count() >= params_.manifest_interval_seconds) {
     manifest_.sort_files();
-    write_manifest(manifest_path_, manifest_);
+    save_manifest();
     last_manifest_write_ = now;
   }
   if (progress_) progress_->on_layer_done(++done_, static_cast<int>(pending_.size()));
 }
 
+void JobRun::save_manifest() {
+  write_manifest(manifest_path_, manifest_);
+  manifest_written_ = true;
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(manifest_path_, ec);
+  if (!ec && lock_ != nullptr) lock_->reserve_bytes(2 * bytes + 65536);  // no room: the job goes on without
+}
+
 void JobRun::mark_failed(const std::exception& e) noexcept {
+  if (!manifest_written_ || failure_recorded_) return;
+  failure_recorded_ = true;
   try {
     manifest_.status = JobStatus::kFailed;
     manifest_.message = e.what();
     manifest_.sort_files();
-    write_manifest(manifest_path_, manifest_);
   } catch (const std::exception&) {
+    return;
+  }
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    try {
+      write_manifest(manifest_path_, manifest_);
+      return;
+    } catch (const std::exception&) {
+      if (lock_ != nullptr) lock_->release_reserve();
+    }
   }
 }
 
 void JobRun::slice_layers() {
   stats_.threads = worker_count(params_.threads);
-  try {
-    // One layer per task: layers are independent, so any schedule gives the same files.
-    parallel_for_each(
-        pending_.size() + refeed_.size(), stats_.threads, [this](std::size_t t) { slice_one(t); },
-        [this] { return stop_requested(); });
-  } catch (const std::exception& e) {
-    mark_failed(e);
-    throw;
-  }
+  // One layer per task: layers are independent, so any schedule gives the same files.
+  parallel_for_each(
+      pending_.size() + refeed_.size(), stats_.threads, [this](std::size_t t) { slice_one(t); },
+      [this] { return stop_requested(); });
   manifest_.sort_files();
   std::sort(stats_.files.begin(), stats_.files.end());
   std::sort(stats_.layers.begin(), stats_.layers.end(),
@@ -359,20 +394,15 @@ void JobRun::slice_layers() {
 JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
   if (!stats_.interrupted) {
     // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
-    try {
-      std::vector<std::string> whole_job = {sheet_name_};
-      for (const auto& w : writers_) {
-        const std::vector<std::string> names = w->finish();
-        whole_job.insert(whole_job.end(), names.begin(), names.end());
-      }
-      for (const std::string& name : whole_job) {
-        const FileDigest d = sha256_file(params_.output_dir / name);
-        manifest_.files.push_back({0, relative_name(name), d.bytes, d.sha256});
-        stats_.files.push_back(name);
-      }
-    } catch (const std::exception& e) {
-      mark_failed(e);
-      throw;
+    std::vector<std::string> whole_job = {sheet_name_};
+    for (const auto& w : writers_) {
+      const std::vector<std::string> names = w->finish();
+      whole_job.insert(whole_job.end(), names.begin(), names.end());
+    }
+    for (const std::string& name : whole_job) {
+      const FileDigest d = sha256_file(params_.output_dir / name);
+      manifest_.files.push_back({0, relative_name(name), d.bytes, d.sha256});
+      stats_.files.push_back(name);
     }
     manifest_.sort_files();
     std::sort(stats_.files.begin(), stats_.files.end());
@@ -382,6 +412,7 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
     manifest_.message = fmt::format("stopped after {} of {} layers; continue with --resume", done_, pending_.size());
   }
   write_manifest(manifest_path_, manifest_);
+  manifest_written_ = true;
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string stats_name =
       params_.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", params_.shard_index, params_.shard_count)
@@ -398,9 +429,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   check_job_settings(slicer, params);
   JobRun run(slicer, params, progress);
   run.open_folder();
-  run.make_writers();
-  run.slice_layers();
-  return run.finish(start);
+  return run.write(start);
 }
 
 }  // namespace trivox

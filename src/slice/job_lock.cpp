@@ -90,11 +90,12 @@ int try_lock(const std::filesystem::path& path, int mode) {
   throw IoError(fmt::format("{}: cannot lock: the lock file keeps being replaced", path.string()));
 }
 
-// Writes this process's holder line into an exclusively held lock file.
-void write_holder(int fd, const std::filesystem::path& path) {
+// Writes this process's holder line into an exclusively held lock file; returns its bytes.
+std::uint64_t write_holder(int fd, const std::filesystem::path& path) {
   const std::string line = this_holder_line();
   if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, line.data(), line.size(), 0) != static_cast<ssize_t>(line.size()))
     throw IoError(fmt::format("{}: cannot write the lock file: {}", path.string(), errno_text(errno)));
+  return line.size();
 }
 
 // Releases a lock: the file is removed first when no other process holds it (an exclusive
@@ -154,7 +155,7 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
     const std::string previous = holder_line(folder_fd_);
     if (!previous.empty()) taken_over_from_ = previous;
     try {
-      write_holder(folder_fd_, folder_lock);
+      line_bytes_ = write_holder(folder_fd_, folder_lock);
     } catch (...) {
       release(folder_fd_, folder_lock, true);
       throw;
@@ -175,12 +176,26 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
   const std::string previous = holder_line(shard_fd_);
   if (!previous.empty()) taken_over_from_ = previous;
   try {
-    write_holder(shard_fd_, shard_lock);
+    line_bytes_ = write_holder(shard_fd_, shard_lock);
   } catch (...) {
     release(shard_fd_, shard_lock, true);
     release(folder_fd_, folder_lock, false);
     throw;
   }
+}
+
+bool JobFolderLock::reserve_bytes(std::uint64_t bytes) {
+  const int fd = shard_fd_ >= 0 ? shard_fd_ : folder_fd_;
+  if (bytes <= reserved_) return true;
+  // Blocks actually allocated (not a sparse extension), so that freeing them makes room.
+  if (::posix_fallocate(fd, static_cast<off_t>(line_bytes_), static_cast<off_t>(bytes)) != 0) return false;
+  reserved_ = bytes;
+  return true;
+}
+
+void JobFolderLock::release_reserve() noexcept {
+  const int fd = shard_fd_ >= 0 ? shard_fd_ : folder_fd_;
+  if (reserved_ > 0 && ::ftruncate(fd, static_cast<off_t>(line_bytes_)) == 0) reserved_ = 0;
 }
 
 JobFolderLock::~JobFolderLock() {

@@ -78,7 +78,7 @@ struct JobParams {
   // The lock of the output folder (job_lock.h) when the caller took it before the job, e.g.
   // to refuse a second job before reading the scene; it must be for output_dir and this
   // shard. nullptr: run_slice_job takes the lock itself, and releases it when it returns.
-  const JobFolderLock* folder_lock = nullptr;
+  JobFolderLock* folder_lock = nullptr;
 };
 
 struct JobStats {

@@ -8,9 +8,11 @@
 // locks: the kernel drops them when their process ends, however it ends, so a lock file
 // left behind by a killed job holds nothing and the next job takes it over. The file holds
 // one line naming its holder, `pid=<pid> host=<host> started=<UTC time>`, for the message
-// that refuses another job; it is removed when the job ends.
+// that refuses another job; it is removed when the job ends. While the job runs, its lock file
+// also holds a reserve of disk space for the manifest of a failure (reserve_bytes).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -35,12 +37,21 @@ class JobFolderLock {
   // it (killed, or a power cut); nullopt when the lock files were absent or empty.
   const std::optional<std::string>& taken_over_from() const noexcept { return taken_over_from_; }
 
+  // Disk space held for the manifest that records a failure: a full disk would leave no room
+  // to write it. The job's own lock file (the shard's for a shard) is extended to hold
+  // `bytes` more than its line, never shrinking; false when the file system has no room (the
+  // job goes on without it). release_reserve() gives the space back, for that last write.
+  bool reserve_bytes(std::uint64_t bytes);
+  void release_reserve() noexcept;
+
  private:
   std::filesystem::path dir_;
   int shard_index_ = 1, shard_count_ = 1;
   int folder_fd_ = -1;  // .trivox.lock
   int shard_fd_ = -1;   // .trivox-shard-I.lock, shards only
   std::optional<std::string> taken_over_from_;
+  std::uint64_t line_bytes_ = 0;  // the holder line at the start of the job's own lock file
+  std::uint64_t reserved_ = 0;    // bytes held after it
 };
 
 // The lock files' names: ".trivox.lock", and ".trivox-shard-I.lock" for shard I.
