@@ -2,6 +2,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -206,6 +207,17 @@ void run(const SliceOptions& so) {
   if (st.padded_layers > 0)
     fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers,
                job.min_layers);
+  // A stack shorter than GrabCAD Voxel Print takes is only written when asked for; say so.
+  const int model_layers =
+      (job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1)) - job.first_layer + 1;
+  const int stack_layers = model_layers + st.padded_layers;
+  const bool voxel_print = std::any_of(job.formats.begin(), job.formats.end(),
+                                       [](const auto& f) { return f == "voxelprint" || f == "gcvf"; });
+  if (voxel_print && stack_layers < JobParams::kVoxelPrintMinLayers)
+    fmt::print(
+        "note: the stack has {} layers, fewer than the {} GrabCAD Voxel Print needs, as --min-layers {} asked "
+        "(manifest.json records min_layers {})\n",
+        stack_layers, JobParams::kVoxelPrintMinLayers, job.min_layers, job.min_layers);
   fmt::print("statistics: {}\n",
              (std::filesystem::path(o.output) /
               (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count)

@@ -98,8 +98,9 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "Extra members of the gcvf package: stl (model.stl, the cells' boundary), bbox (bounding_box.txt)")
       ->delimiter(',')
       ->check(CLI::IsMember({"stl", "bbox"}));
-  cmd.add_option("--min-layers", o.min_layers, "Pad with empty layers up to this count")
-      ->check(CLI::NonNegativeNumber)
+  cmd.add_option("--min-layers", o.min_layers,
+                 "Pad with empty layers up to this count (GrabCAD Voxel Print needs 30; fewer is reported)")
+      ->check(CLI::Range(0, JobParams::kMaxMinLayers))
       ->capture_default_str();
   cmd.add_option("--preview", o.preview_layers,
                  "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours "

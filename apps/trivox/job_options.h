@@ -36,7 +36,7 @@ struct JobOptions {
   std::string gcvf_names = "codes";
   bool gcvf_all_materials = false;
   std::vector<std::string> gcvf_extras;
-  int min_layers = 30;
+  int min_layers = JobParams::kVoxelPrintMinLayers;
   std::vector<int> preview_layers;  // 1-based
   std::string shard;
   double memory_limit_mb = 0;  // 0 = the machine's memory (memory_limit_bytes())

@@ -124,6 +124,19 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (scene.num_materials() > scene.printer.max_materials)
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
+  if (params.min_layers < 0 || params.min_layers > JobParams::kMaxMinLayers)
+    throw Error(fmt::format("min_layers is {}: a stack is padded to 0 to {} layers", params.min_layers,
+                            JobParams::kMaxMinLayers));
+  // Voxel Print's colour limit holds whatever the printer profile says.
+  for (const std::string& format : params.formats)
+    if ((format == "voxelprint" || format == "gcvf") &&
+        scene.num_materials() > voxel_print_max_materials(scene.printer))
+      throw Error(fmt::format(
+          "{}: the scene uses {} materials, but GrabCAD Voxel Print (output '{}') prints at most {} per job{} "
+          "(printer profile '{}' says {})",
+          scene.source, scene.num_materials(), format, voxel_print_max_materials(scene.printer),
+          scene.printer.print_mode.empty() ? std::string() : " in " + scene.printer.print_mode + " mode",
+          scene.printer.name, scene.printer.max_materials));
   // Names are not paths: what goes into a file name keeps every file inside the folder.
   if (const auto problem = file_name_part_problem(params.prefix))
     throw Error(

@@ -52,8 +52,10 @@ struct JobParams {
   std::optional<std::array<std::uint8_t, 4>> background_rgba;
   GcvfJobOptions gcvf;
   // GrabCAD Voxel Print needs at least this many layers; shorter jobs are padded with empty
-  // (background) layers after the model's.
-  int min_layers = 30;
+  // (background) layers after the model's. 0 to kMaxMinLayers.
+  int min_layers = kVoxelPrintMinLayers;
+  static constexpr int kVoxelPrintMinLayers = 30;
+  static constexpr int kMaxMinLayers = 1000;
   PngWriteParams png;
   // Model layers (0-based, within first..last) also written for a person to look at:
   // preview/layer_NNNNN.png, NNNNN the 1-based layer number, in opaque display colours with
