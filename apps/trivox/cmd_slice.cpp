@@ -156,6 +156,7 @@ void run(const SliceOptions& so) {
   params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
+  check_bitmap_shows_object(o, slicer);
   if (!o.no_checks) {
     // One sample layer is enough to refuse a job that is far too big; `trivox validate`
     // samples more for a closer estimate.
@@ -218,12 +219,23 @@ void run(const SliceOptions& so) {
         "note: the stack has {} layers, fewer than the {} GrabCAD Voxel Print needs, as --min-layers {} asked "
         "(manifest.json records min_layers {})\n",
         stack_layers, JobParams::kVoxelPrintMinLayers, job.min_layers, job.min_layers);
+  // No voxel of the object in a job that sliced every model layer in this run (a resumed
+  // job's kept layers, or another shard's, are not counted here): the object is lost.
+  const int sliced_model_layers = static_cast<int>(st.layers.size());  // padding layers have no stats
+  const bool empty = inside == 0 && job.shard_count == 1 && st.layers_kept == 0 && sliced_model_layers > 0;
+  if (empty && o.allow_empty) fmt::print("note: the stack holds no voxel of the object (--allow-empty)\n");
   fmt::print("statistics: {}\n",
              (std::filesystem::path(o.output) /
               (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count)
                                    : std::string("stats.json")))
                  .string());
   fmt::print("manifest: {}\n", manifest);
+  if (empty && !o.allow_empty)
+    throw EmptyResultError(fmt::format(
+        "{}: the stack holds no voxel of the object: no pixel centre of its {} layers lies inside a cell (the "
+        "object is thinner than a pixel, or falls between pixel centres); the files are written and {} is complete "
+        "(--allow-empty accepts an empty stack)",
+        o.output, sliced_model_layers, manifest));
 }
 
 }  // namespace

@@ -111,6 +111,9 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("--memory-limit", o.memory_limit_mb,
                  "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
       ->check(CLI::PositiveNumber);
+  cmd.add_flag("--allow-empty", o.allow_empty,
+               "Accept a stack without the object (a bitmap under 2 pixels along x or y, or no voxel inside): "
+               "otherwise exit 6");
   cmd.add_flag("--no-checks", o.no_checks,
                "Do not refuse a job that the estimates say will not fit the disk or the memory limit");
 }
@@ -182,6 +185,15 @@ JobParams job_params_of(const JobOptions& o) {
 void warn_about_printer(const Scene& scene) {
   if (const auto warning = layer_thickness_warning(scene.printer))
     fmt::print(stderr, "trivox: warning: {}\n", *warning);
+}
+
+void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer) {
+  const SliceLayout& L = slicer.layout();
+  if (o.allow_empty || (L.width_px >= 2 && L.height_px >= 2)) return;
+  throw EmptyResultError(
+      fmt::format("{}: the object is {} x {} px at printer '{}' (pixels of {:.4f} x {:.4f} mm): a bitmap under 2 "
+                  "pixels along x or y cannot show it; is the model in mm? (--allow-empty slices it anyway)",
+                  o.scene, L.width_px, L.height_px, slicer.scene().printer.name, L.pitch_x_mm, L.pitch_y_mm));
 }
 
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
