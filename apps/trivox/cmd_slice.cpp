@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_checks.h"
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
@@ -251,7 +252,7 @@ void add_slice_command(CLI::App& app) {
   cmd->add_option("--manifest-interval", opts->manifest_interval_s,
                   "Seconds between rewrites of manifest.json while layers complete (0: after every layer); a "
                   "killed job redoes at most the layers of one interval")
-      ->check(CLI::Range(0.0, 86400.0));
+      ->check(number_in(0.0, 86400.0));
   cmd->callback([opts] { run(*opts); });
 }
 

@@ -1,11 +1,13 @@
 #include "job_options.h"
 
+#include <algorithm>
 #include <array>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "cli_checks.h"
 #include "cli_errors.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
@@ -55,19 +57,19 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("scene", o.scene, "Scene file (JSON, docs/SCENE.md)")->required();
   auto* out = cmd.add_option("-o,--output", o.output, "Output folder (created if missing)");
   if (output_required) out->required();
-  cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(thread_count());
   cmd.add_option("--layers", o.layers, "Only layers FIRST:LAST (1-based, inclusive)");
   cmd.add_option("--tracing", o.tracing,
                  "Seeding of the inverse: none, previous-point, previous-line, full (the paper's), predict, flood")
       ->capture_default_str();
   cmd.add_option("--residual-tolerance", o.residual_tolerance_mm,
                  "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd.add_option("--outline-tolerance", o.outline_tolerance_mm,
                  "Largest distance between a cell's boundary and its triangulated outline, mm: the band of pixels "
                  "decided by the exact inverse is twice as wide (default: an eighth of the finest pitch)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd.add_option("--dither", o.dither,
                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else "
                  "floyd-steinberg)");
@@ -110,7 +112,7 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
   cmd.add_option("--memory-limit", o.memory_limit_mb,
                  "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd.add_flag("--allow-empty", o.allow_empty,
                "Accept a stack without the object (a bitmap under 2 pixels along x or y, or no voxel inside): "
                "otherwise exit 6");
@@ -197,7 +199,8 @@ void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer) {
 }
 
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
-  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(o.memory_limit_mb * 1e6);
+  // Beyond 1.8e13 MB (2^64 bytes) a limit is no limit.
+  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(std::min(o.memory_limit_mb * 1e6, 1.8e19));
   return memory_limit_bytes();
 }
 

@@ -37,9 +37,34 @@ std::string version_text() {
   return text;
 }
 
+// A message with every run of more than 4096 bytes without a blank (a name the input made
+// that long, which the library echoed) cut as trivox::shown_name cuts names: one readable line
+// whatever the input holds. Paths stay whole (PATH_MAX is 4096).
+std::string with_long_words_cut(std::string_view message) {
+  constexpr std::size_t kLongest = 4096;
+  std::string out;
+  std::size_t at = 0;
+  while (at < message.size()) {
+    const std::size_t end = std::min(message.find(' ', at), message.size());
+    const std::string_view word = message.substr(at, end - at);
+    if (word.size() > kLongest) {
+      const auto continuation = [](char c) { return (static_cast<unsigned char>(c) & 0xC0) == 0x80; };
+      std::size_t cut = 80;
+      while (cut > 0 && continuation(word[cut])) --cut;
+      const auto characters = std::count_if(word.begin(), word.end(), [&](char c) { return !continuation(c); });
+      out += fmt::format("{}... ({} characters)", word.substr(0, cut), characters);
+    } else {
+      out += word;
+    }
+    if (end < message.size()) out += ' ';
+    at = end + 1;
+  }
+  return out;
+}
+
 int fail(trivox::cli::ExitCode code, std::string_view kind, std::string_view message) {
   std::fflush(stdout);  // keep what was printed before the error ahead of it in a shared log
-  fmt::print(stderr, "trivox: {}: {}\n", kind, message);
+  fmt::print(stderr, "trivox: {}: {}\n", kind, with_long_words_cut(message));
   return code;
 }
 

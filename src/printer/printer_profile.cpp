@@ -126,7 +126,7 @@ std::optional<std::string> layer_thickness_warning(const PrinterProfile& profile
   const double change = 100.0 * (nearest->layer_thickness_mm / profile.layer_thickness_mm - 1.0);
   return fmt::format(
       "printer '{}': the layer thickness {} mm is no print mode of the {} ({}); printed in {} mode the part "
-      "comes out {:.0f} % {} than modelled",
+      "comes out {:.3g} % {} than modelled",
       profile.name, profile.layer_thickness_mm, upper(profile.family), fmt::join(listed, ", "), nearest->name,
       std::abs(change), change < 0 ? "shorter" : "taller");
 }

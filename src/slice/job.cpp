@@ -137,6 +137,34 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
           scene.source, scene.num_materials(), format, voxel_print_max_materials(scene.printer),
           scene.printer.print_mode.empty() ? std::string() : " in " + scene.printer.print_mode + " mode",
           scene.printer.name, scene.printer.max_materials));
+  // Voxel Print images tell materials apart by colour alone: the scene and its fields named
+  // here, where the writers know neither.
+  if (std::any_of(params.formats.begin(), params.formats.end(),
+                  [](const std::string& f) { return f == "voxelprint" || f == "gcvf"; })) {
+    const auto colour = [](std::array<std::uint8_t, 4> c) {
+      return fmt::format("#{:02X}{:02X}{:02X}", c[0], c[1], c[2]);
+    };
+    const auto opaque = [](std::array<std::uint8_t, 4> c) {
+      c[3] = 255;
+      return c;
+    };
+    const std::array<std::uint8_t, 4> background = opaque(job_background(scene, params));
+    for (std::size_t b = 0; b < scene.materials.size(); ++b) {
+      const std::array<std::uint8_t, 4> c = opaque(scene.materials[b].rgba);
+      if (c == background)
+        throw Error(fmt::format(
+            "{}: /materials/{}: material {} has the image colour {} of the background (--background): Voxel Print "
+            "output needs a distinct colour for every material and for the background",
+            scene.source, b, shown_name(scene.materials[b].name), colour(c)));
+      for (std::size_t a = 0; a < b; ++a)
+        if (opaque(scene.materials[a].rgba) == c)
+          throw Error(fmt::format(
+              "{}: /materials/{}: material {} has the image colour {} of material {} (/materials/{}): Voxel Print "
+              "output needs a distinct colour for every material (opaque: the alpha is not part of the image "
+              "colour)",
+              scene.source, b, shown_name(scene.materials[b].name), colour(c), shown_name(scene.materials[a].name), a));
+    }
+  }
   // Names are not paths: what goes into a file name keeps every file inside the folder.
   if (const auto problem = file_name_part_problem(params.prefix))
     throw Error(
