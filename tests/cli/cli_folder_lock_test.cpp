@@ -84,6 +84,16 @@ TEST_F(CliFolderLock, TheShardsOfOneJobRunAtOnceButNotTwiceNorBesideAWholeJob) {
   std::optional<JobFolderLock> shard_one(std::in_place, out(), 1, 2);  // shard 1/2 running
   const CliResult two = slice("-q --shard 2/2");
   EXPECT_EQ(two.exit_code, 0) << two.err;
+  // Resumed beside the running shard: its file in progress stays, one a killed job left goes.
+  const fs::path in_progress = out() / fmt::format("slice_00001.png.tmp-{}-3", ::getpid());
+  const fs::path left = out() / "slice_00003.png.tmp-999999-3";
+  write_text(in_progress, "partial");
+  write_text(left, "partial");
+  const CliResult resumed = slice("-q --shard 2/2 --resume");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_TRUE(fs::exists(in_progress)) << "a resumed shard removed another shard's file in progress";
+  EXPECT_FALSE(fs::exists(left));
+  fs::remove(in_progress);
   const CliResult one_again = slice("-q --shard 1/2");
   EXPECT_EQ(one_again.exit_code, 3) << one_again.err;
   EXPECT_NE(one_again.err.find(".trivox-shard-1.lock"), std::string::npos) << one_again.err;
