@@ -9,8 +9,11 @@
 //    part of the error the eye and the print do not average away;
 //  * layer repetition: over 8 stacked layers of the same constant block, the share of pixels
 //    that repeat the label of the layer below (a pattern that repeats draws vertical streaks
-//    on walls), next to the share two independent patterns would give.
+//    on walls), next to the share two independent patterns would give;
+//  * streaks: the same per row and per column of blocks with a middle row and column (a part
+//    symmetric about it), over 16 layers: a row that repeats draws a streak plane.
 // Run: build/<preset>/bench/dither_quality_bench
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -206,6 +209,97 @@ int main() {
         cells += fmt::format(" {:.3f} |", static_cast<double>(same) / (7.0 * kSize * kSize));
       }
       fmt::print("| {} | {} |{} {:.3f} |\n", b.name, trivox::dither_method_name(p), cells, independent);
+    }
+  }
+
+  // Streaks: a part symmetric about its middle row (or column) must not repeat that row from
+  // layer to layer, nor may any row or column come back in a later layer. Blocks of an odd
+  // size, so that they have a middle row and column.
+  constexpr int kOdd = kSize - 1;
+  constexpr int kLayers = 16;
+  fmt::print("\nStreaks: {} x {} px blocks (a middle row and column), {} layers varied by layer. Share of voxels\n",
+             kOdd, kOdd, kLayers);
+  fmt::print("repeating the label of the layer below: whole block, middle row, and the largest excess of a row and\n");
+  fmt::print("of a column over what independent patterns give there; rows and columns repeated whole in two of\n");
+  fmt::print("the layers (of {} pairs of layers x {} rows or columns); what independent patterns give.\n\n",
+             kLayers * (kLayers - 1) / 2, kOdd);
+  fmt::print(
+      "| block | method | whole | middle row | largest row excess | largest column excess | rows repeated | "
+      "columns repeated | independent |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const Block& full : all) {
+    if (full.name.rfind("constant A 0.02", 0) == 0 || full.name.rfind("constant A 0.10", 0) == 0) continue;
+    MaterialGrid g(kOdd, kOdd, full.grid.num_materials());
+    for (int y = 0; y < kOdd; ++y)
+      for (int x = 0; x < kOdd; ++x)
+        for (int k = 0; k < g.num_materials(); ++k)
+          g.at(x, y, k) =
+              full.name.rfind("gradient", 0) == 0 ? full.grid.at(x * kSize / kOdd, 0, k) : full.grid.at(0, 0, k);
+    const InsideMask odd_inside(kOdd, kOdd, 1);
+    // What independent patterns repeat at each voxel: the sum of squares of its fractions.
+    std::vector<double> expected(static_cast<std::size_t>(kOdd) * kOdd);
+    double expected_all = 0;
+    for (int y = 0; y < kOdd; ++y)
+      for (int x = 0; x < kOdd; ++x) {
+        double sum = 0, sq = 0;
+        for (int k = 0; k < g.num_materials(); ++k) {
+          const double f = g.at(x, y, k);
+          sq += f * f;
+          sum += f;
+        }
+        sq += (1 - sum) * (1 - sum);
+        expected[static_cast<std::size_t>(y) * kOdd + static_cast<std::size_t>(x)] = sq;
+        expected_all += sq;
+      }
+    expected_all /= static_cast<double>(kOdd) * kOdd;
+    for (DitherParams p : methods) {
+      p.vary_by_layer = true;
+      std::vector<LabelImage> layers;
+      for (int layer = 0; layer < kLayers; ++layer) layers.push_back(trivox::dither(g, odd_inside, p, layer));
+      std::vector<long> row_same(kOdd, 0), col_same(kOdd, 0);
+      long same = 0;
+      for (int layer = 1; layer < kLayers; ++layer) {
+        const LabelImage& below = layers[static_cast<std::size_t>(layer - 1)];
+        const LabelImage& here = layers[static_cast<std::size_t>(layer)];
+        for (int y = 0; y < kOdd; ++y)
+          for (int x = 0; x < kOdd; ++x) {
+            const int s = here.at(x, y) == below.at(x, y) ? 1 : 0;
+            row_same[static_cast<std::size_t>(y)] += s;
+            col_same[static_cast<std::size_t>(x)] += s;
+            same += s;
+          }
+      }
+      long rows_repeated = 0, cols_repeated = 0;
+      for (int a = 0; a < kLayers; ++a)
+        for (int b = a + 1; b < kLayers; ++b) {
+          const LabelImage& la = layers[static_cast<std::size_t>(a)];
+          const LabelImage& lb = layers[static_cast<std::size_t>(b)];
+          for (int i = 0; i < kOdd; ++i) {
+            bool row = true, col = true;
+            for (int j = 0; j < kOdd && (row || col); ++j) {
+              row = row && la.at(j, i) == lb.at(j, i);
+              col = col && la.at(i, j) == lb.at(i, j);
+            }
+            rows_repeated += row ? 1 : 0;
+            cols_repeated += col ? 1 : 0;
+          }
+        }
+      const double pairs = kLayers - 1;
+      double row_excess = -1, col_excess = -1;
+      for (int i = 0; i < kOdd; ++i) {
+        double row_expected = 0, col_expected = 0;
+        for (int j = 0; j < kOdd; ++j) {
+          row_expected += expected[static_cast<std::size_t>(i) * kOdd + static_cast<std::size_t>(j)];
+          col_expected += expected[static_cast<std::size_t>(j) * kOdd + static_cast<std::size_t>(i)];
+        }
+        row_excess = std::max(
+            row_excess, (static_cast<double>(row_same[static_cast<std::size_t>(i)]) / pairs - row_expected) / kOdd);
+        col_excess = std::max(
+            col_excess, (static_cast<double>(col_same[static_cast<std::size_t>(i)]) / pairs - col_expected) / kOdd);
+      }
+      fmt::print("| {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {} | {} | {:.3f} |\n", full.name,
+                 trivox::dither_method_name(p), static_cast<double>(same) / (pairs * kOdd * kOdd),
+                 static_cast<double>(row_same[kOdd / 2]) / (pairs * kOdd), row_excess, col_excess, rows_repeated,
+                 cols_repeated, expected_all);
     }
   }
   return 0;

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (preset "fuzz": clang, AddressSanitizer + UBSan) and runs each
-# for SECONDS (default 90), one after the other:
-#   scripts/fuzz.sh [SECONDS] [TARGET...]     TARGETs: itd gismo_xml scene expression (all)
+# for SECONDS (default 90), two at a time (TRIVOX_FUZZ_PARALLEL, default 2):
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     TARGETs: itd gismo_xml scene expression g2 pipeline (all)
 # Seeds: fuzz/corpus/<target>/ (written for the fuzzers), the regression inputs
 # fuzz/regressions/<target>/, and files staged from examples/ and tests/data/ at run time.
 # New inputs go to build/fuzz/corpus/<target>/ (kept between runs), crash inputs to
@@ -17,7 +17,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-90}"
 shift || true
 targets=("$@")
-[ "${#targets[@]}" -gt 0 ] || targets=(itd gismo_xml scene expression)
+[ "${#targets[@]}" -gt 0 ] || targets=(itd gismo_xml scene expression g2 pipeline)
 case "$seconds" in
   ''|*[!0-9]*) echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2 ;;
 esac
@@ -40,6 +40,11 @@ stage_seeds() {
     itd) cp examples/models/*.itd tests/data/models/*.itd tests/data/malformed/*.itd "$dir"/ ;;
     gismo_xml) cp tests/data/models/*.xml tests/data/malformed/*.xml "$dir"/ ;;
     scene) cp examples/scenes/*.json "$dir"/ ;;
+    g2)
+      cp tests/data/models/*.g2 tests/data/malformed/*.g2 "$dir"/
+      # The real GoTools files, when ../shared is beside the repository (read, not copied into it).
+      if [ -d ../shared/data/gotools ]; then cp ../shared/data/gotools/*.g2 "$dir"/; fi ;;
+    pipeline) ;;  # its inputs are choices, not files: fuzz/corpus/pipeline holds them
     expression)
       # Each fractions value of the example scenes, one file per expression.
       grep -ho '"Vero[A-Za-z]*": "[^"]*"' examples/scenes/*.json | sed 's/^[^:]*: "//; s/"$//' |
@@ -51,26 +56,52 @@ export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
 summary=build/fuzz/summary.tsv
 printf 'target\tseconds\texecutions\tcorpus_files\tfindings\n' > "$summary"
-failed=0
-for target in "${targets[@]}"; do
-  work="build/fuzz/corpus/$target" seeds="build/fuzz/seeds/$target" artifacts="build/fuzz/artifacts/$target/"
+# One target for SECONDS; its line goes to build/fuzz/<target>.row, its exit status to
+# build/fuzz/<target>.status.
+run_one() {
+  local target="$1"
+  local work="build/fuzz/corpus/$target" seeds="build/fuzz/seeds/$target" artifacts="build/fuzz/artifacts/$target/"
   rm -rf "$artifacts"  # findings are counted per run
   mkdir -p "$work" "$artifacts" "fuzz/regressions/$target"
   stage_seeds "$target" "$seeds"
-  log="build/fuzz/$target.log"
+  local log="build/fuzz/$target.log"
   echo "fuzz.sh: fuzz_$target for ${seconds}s (log: $log)"
   set +e
   "build/fuzz/fuzz/fuzz_$target" -max_total_time="$seconds" -seed="$seed" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$artifacts" \
     "$work" "fuzz/corpus/$target" "fuzz/regressions/$target" "$seeds" > "$log" 2>&1
-  status=$?
+  local status=$?
   set -e
+  local runs files findings
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' | tail -n 1 || true)
   files=$(find "$work" -type f | wc -l)
   findings=$(find "$artifacts" -type f | wc -l)
-  printf '%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "${runs:-?}" "$files" "$findings" >> "$summary"
+  printf '%s\t%s\t%s\t%s\t%s\n' "$target" "$seconds" "${runs:-?}" "$files" "$findings" > "build/fuzz/$target.row"
+  echo "$status" > "build/fuzz/$target.status"
+}
+
+parallel="${TRIVOX_FUZZ_PARALLEL:-2}"
+case "$parallel" in
+  ''|*[!0-9]*|0) echo "fuzz.sh: TRIVOX_FUZZ_PARALLEL must be a whole number >= 1, got '$parallel'" >&2; exit 2 ;;
+esac
+running=0
+for target in "${targets[@]}"; do
+  run_one "$target" &
+  running=$((running + 1))
+  if [ "$running" -ge "$parallel" ]; then
+    wait -n || true
+    running=$((running - 1))
+  fi
+done
+wait || true
+
+failed=0
+for target in "${targets[@]}"; do
+  cat "build/fuzz/$target.row" >> "$summary"
+  status=$(cat "build/fuzz/$target.status")
   if [ "$status" -ne 0 ]; then
     failed=1
+    log="build/fuzz/$target.log"
     echo "fuzz.sh: fuzz_$target FAILED (exit $status); the report:" >&2
     grep -E -A 30 '^==[0-9]+==ERROR|runtime error|^SUMMARY|deadly signal|timeout|out-of-memory' "$log" | head -n 60 >&2 || tail -n 40 "$log" >&2
   fi

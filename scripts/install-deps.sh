@@ -17,6 +17,9 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the "vdb" output: OpenVDB and the Boost headers its headers include
   libopenvdb-dev libboost-dev
+  # mesh trims: STL, OBJ and PLY through assimp, 3MF through lib3mf (assimp's 3MF importer
+  # drops files that use the production extension)
+  libassimp-dev lib3mf-dev
   # the tests open the .gcvf archive with Python's zipfile, a reader independent of trivox's
   python3
   # the Python module (python/, docs/PYTHON.md): its headers, pybind11, numpy, and pytest for

@@ -60,6 +60,11 @@ if [ -d ../shared/data ]; then
   # The boxes trimmed by the duck's and the teapot's shells, through their middles.
   one_layer examples/shared_scenes/duck_trimmed_box.json 167 duck_trimmed_box
   one_layer examples/shared_scenes/teapot_trimmed_box.json 201 teapot_trimmed_box
+  # Mesh trims: the box filled inside the bunny's STL, through its body and its ears; the
+  # revolved ring inside the hex nut's STL, through its middle.
+  one_layer examples/shared_scenes/bunny_mesh_box.json 630 bunny_mesh_box
+  one_layer examples/shared_scenes/bunny_mesh_box.json 1000 bunny_mesh_box
+  one_layer examples/shared_scenes/hex_nut_radial.json 140 hex_nut_radial
 else
   echo "make_doc_images.sh: ../shared/data is absent: the images of the scenes built from it are left as they are" >&2
 fi

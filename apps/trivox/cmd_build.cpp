@@ -1,18 +1,20 @@
-// `trivox build SPEC -o OUT.itd`: builds a volume with a constructor (extrude, ruled, revolve,
-// sweep, coons, shell) from a construction file and saves it as an IRIT model
-// (docs/CLI.md#build). Prints the construction report; a volume that folds is an error
-// unless --allow-fold.
+// `trivox build SPEC -o OUT`: builds a volume with a constructor (extrude, ruled, revolve,
+// sweep, coons, shell) from a construction file and saves it as a model whose format the
+// output's extension names: IRIT .itd, G+Smo .xml or GoTools .g2 (docs/CLI.md#build). Prints
+// the construction report; a volume that folds is an error unless --allow-fold.
 #include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_errors.h"
 #include "commands.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
@@ -47,6 +49,13 @@ void write_atomically(const std::filesystem::path& target, const std::string& te
 }
 
 void run_build(const BuildOptions& o) {
+  // Checked before the construction, which may take a while.
+  const std::optional<ModelFormat> format = model_format_of(o.output);
+  if (!format)
+    throw UsageError(
+        fmt::format("-o {}: the extension names the model format: .itd (IRIT), .xml (G+Smo) or .g2 "
+                    "(GoTools)",
+                    o.output));
   const Constructed c = read_construction(o.spec);
   const ConstructionReport& r = c.report;
   const ParamBox& d = c.volume.domain();
@@ -76,7 +85,7 @@ void run_build(const BuildOptions& o) {
   m.source = o.output;
   m.patches.push_back(Patch{o.name, 0, 0, c.volume.spline()});
   std::ostringstream text;
-  write_itd(text, m);
+  write_model(text, m, *format);
   write_atomically(o.output, text.str());
   fmt::print("wrote {}\n", o.output);
 }
@@ -88,9 +97,10 @@ void add_build_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "build",
       "Build a volume with a constructor (extrude, ruled, revolve, sweep, coons, shell) from a construction "
-      "file (JSON, as a scene cell's \"geometry\") and save it as an IRIT .itd model.");
+      "file (JSON, as a scene cell's \"geometry\") and save it as a model: IRIT .itd, G+Smo .xml or GoTools .g2, "
+      "by the output's extension.");
   cmd->add_option("spec", opts->spec, "construction file (JSON)")->required();
-  cmd->add_option("-o,--output", opts->output, "the model file to write (.itd)")->required();
+  cmd->add_option("-o,--output", opts->output, "the model file to write (.itd, .xml or .g2)")->required();
   cmd->add_option("--name", opts->name, "the object's name in the model file")->capture_default_str();
   cmd->add_flag("--allow-fold", opts->allow_fold, "write the volume even when it folds over itself");
   cmd->callback([opts] { run_build(*opts); });

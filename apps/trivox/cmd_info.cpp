@@ -83,6 +83,15 @@ nlohmann::ordered_json patch_json(int index, const Patch& patch, const JacobianC
                 {"zero", report->zero},
                 {"min_det", report->min_det},
                 {"max_det", report->max_det}};
+    if (report->classification == JacobianClass::kFolded) {
+      Json folds = Json::array();
+      for (const FoldRegion& f : fold_regions(Volume(s), params))
+        folds.push_back({{"u", {f.box.lo.x, f.box.hi.x}},
+                         {"v", {f.box.lo.y, f.box.hi.y}},
+                         {"w", {f.box.lo.z, f.box.hi.z}},
+                         {"samples", f.samples}});
+      jacobian["folds"] = folds;
+    }
   }
   return {{"index", index},
           {"name", patch.name},
@@ -142,6 +151,13 @@ void print_patch_text(int index, const Patch& patch, const JacobianCheckParams& 
     fmt::print("  jacobian {} ({} samples: {} positive, {} negative, {} zero; det J in [{:.6g}, {:.6g}])\n",
                to_string(r->classification), r->positive + r->negative + r->zero, r->positive, r->negative, r->zero,
                r->min_det, r->max_det);
+    if (r->classification == JacobianClass::kFolded) {
+      const bool negative = r->positive >= r->negative;
+      for (const FoldRegion& f : fold_regions(Volume(s), params))
+        fmt::print("  folds: det J {} 0 at {} sample{} in {}  {}  {}\n", negative ? "<" : ">", f.samples,
+                   f.samples == 1 ? "" : "s", range_text("u", f.box.lo.x, f.box.hi.x),
+                   range_text("v", f.box.lo.y, f.box.hi.y), range_text("w", f.box.lo.z, f.box.hi.z));
+    }
   } else if (n == 3) {
     fmt::print("  jacobian not checked: point dimension {} (a field, not a map into 3D)\n", s.point_dim());
   }
@@ -156,6 +172,7 @@ void print_text(const Model& model, const JacobianCheckParams& params) {
   }
   fmt::print("{}: {}{}\n", model.source, count_of(model.patches.size(), "patch", "patches"),
              kinds.empty() ? "" : fmt::format(" ({})", fmt::join(kinds, ", ")));
+  for (const ModelNote& note : model.notes) fmt::print("note: line {}: {}\n", note.line, note.text);
   for (std::size_t i = 0; i < model.patches.size(); ++i)
     print_patch_text(static_cast<int>(i), model.patches[i], params);
 }
@@ -175,7 +192,9 @@ void run_info(const InfoOptions& options) {
     const auto dump = [](const nlohmann::ordered_json& j) {
       return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
     };
-    fmt::print("{{\"source\":{},\"patches\":[\n", dump(model.source));
+    nlohmann::ordered_json notes = nlohmann::ordered_json::array();
+    for (const ModelNote& note : model.notes) notes.push_back({{"line", note.line}, {"text", note.text}});
+    fmt::print("{{\"source\":{},\"notes\":{},\"patches\":[\n", dump(model.source), dump(notes));
     for (std::size_t i = 0; i < model.patches.size(); ++i)
       fmt::print("  {}{}\n", dump(patch_json(static_cast<int>(i), model.patches[i], options.jacobian)),
                  i + 1 < model.patches.size() ? "," : "");
@@ -192,7 +211,7 @@ void add_info_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
   cmd->add_option("model", options->model_path,
-                  "Model file: IRIT .itd or G+Smo .xml; or a scene (.json) for a job estimate")
+                  "Model file: IRIT .itd, G+Smo .xml or GoTools .g2; or a scene (.json) for a job estimate")
       ->required();
   cmd->add_flag("--json", options->json, "Print one JSON document instead of text");
   cmd->add_option("--jacobian-samples", options->jacobian.samples_per_direction,

@@ -171,7 +171,7 @@ void add_probe_command(CLI::App& app) {
       app.add_subcommand("probe",
                          "Read points from standard input, one per line: invert model-space points x y z (default) or "
                          "evaluate parameters (--eval --patch N); print one JSON line per point.");
-  cmd->add_option("model", options->model_path, "Model file: IRIT .itd or G+Smo .xml")->required();
+  cmd->add_option("model", options->model_path, "Model file: IRIT .itd, G+Smo .xml or GoTools .g2")->required();
   CLI::Option* patch = cmd->add_option("--patch", options->patch,
                                        "Patch index (from `trivox info`): the patch to evaluate, or the only "
                                        "trivariate to invert in")

@@ -19,12 +19,14 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "trivox/material/material_function.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
 #include "trivox/slice/job_lock.h"
 #include "trivox/slice/manifest.h"
+#include "trivox/slice/printed_extent.h"
 
 namespace trivox::cli {
 
@@ -94,13 +96,14 @@ std::uint64_t bytes_already_written(const JobParams& job) {
 // The output folder, locked for this job (job_lock.h) before the scene is read, so that a
 // second job into the same folder is refused at once.
 //
-// A job that fails on its input (a fraction sum above 1 met in layer 200, or a scene that
-// does not read) must not leave a half-written stack that looks like a result. The folder is
-// put back as it was found when it was absent or empty; a folder that already held files is
-// left alone, since they are not this job's to delete. Write errors keep the completed
-// layers: the manifest then says the job failed, and --resume finishes it once there is
-// room. The files are removed while the lock is still held, so that they cannot be another
-// job's.
+// A job that fails for a reason a resume cannot mend (a scene that does not read, a setting
+// the job cannot take) must not leave a half-written stack that looks like a result. The
+// folder is put back as it was found when it was absent or empty; a folder that already held
+// files is left alone, since they are not this job's to delete. Write errors and a fraction
+// sum that breaks the rule keep the completed layers: the manifest then says the job failed,
+// and --resume finishes it once there is room, or after a correction of the scene that
+// cannot change them. The files are removed while the lock is still held, so that they
+// cannot be another job's.
 class LockedOutputFolder {
  public:
   LockedOutputFolder(std::filesystem::path dir, int shard_index, int shard_count) : dir_(std::move(dir)) {
@@ -177,6 +180,9 @@ void run(const SliceOptions& so) {
                d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
                d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
   }
+  // Warnings go to standard error even with -q: they are about the result, not progress.
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job)))
+    fmt::print(stderr, "trivox: warning: {}\n", w);
   TerminalProgress progress(so.quiet);
   // A job that fails on its input part way leaves no partial stack behind; one that fails
   // to write (a full disk) or is stopped keeps what it completed for --resume.
@@ -185,6 +191,15 @@ void run(const SliceOptions& so) {
     st = run_slice_job(slicer, job, &progress);
   } catch (const IoError&) {
     folder.commit();
+    throw;
+  } catch (const FractionError& e) {
+    folder.commit();
+    std::fflush(stdout);
+    fmt::print(stderr,
+               "trivox: the job stopped at once; {} is marked failed and keeps the layers that were complete; correct "
+               "the scene and run the same command with --resume: it keeps them if the correction cannot change them "
+               "(and says why not otherwise)\n",
+               (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string());
     throw;
   }
   folder.commit();
@@ -202,6 +217,15 @@ void run(const SliceOptions& so) {
              o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
+  if (!st.printed.empty()) {
+    // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
+    const Vec3 printed = printed_box_mm(st.printed, L).size(), model = scene.bounds().size();
+    fmt::print(
+        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
+        printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
+        st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1,
+        st.layers_kept > 0 ? ", of the layers this run sliced" : "", model.x, model.y, model.z);
+  }
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
   if (job.shard_count > 1)
     fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index,

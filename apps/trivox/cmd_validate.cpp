@@ -2,6 +2,7 @@
 // estimates what it will cost (docs/CLI.md#validate).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
@@ -9,6 +10,8 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "trivox/error.h"
+#include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job_estimate.h"
 
@@ -33,12 +36,47 @@ void run_validate(const ValidateOptions& v) {
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
              scene.printer.name);
   print_estimate(e);
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job))) fmt::print("  warning: {}\n", w);
   if (!o.output.empty()) {
     if (const auto free = free_disk_bytes(job.output_dir))
       fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
   }
   if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
   if (!o.no_checks) check_job_fits(e, job, memory_limit_of(o));
+  // The fraction rules, proved cell by cell over each cell's domain (or not).
+  const std::vector<CellFractionCheck> checks = check_scene_fractions(scene);
+  int proved = 0, unproved = 0;
+  for (const CellFractionCheck& c : checks) {
+    const Cell& cell = scene.cells[static_cast<std::size_t>(c.cell)];
+    const FractionCheck& f = c.check;
+    if (f.outcome == FractionCheckOutcome::kProved) {
+      ++proved;
+    } else if (f.outcome == FractionCheckOutcome::kUnproved) {
+      ++unproved;
+      fmt::print(
+          "  fraction sums: cell '{}' ({}/material): cannot prove: {} in u [{:.6g}, {:.6g}] v [{:.6g}, {:.6g}] "
+          "w [{:.6g}, {:.6g}]\n",
+          cell.name, cell.pointer, f.reason, f.box.lo.x, f.box.hi.x, f.box.lo.y, f.box.hi.y, f.box.lo.z, f.box.hi.z);
+    } else {
+      throw InputError(
+          scene.source, 0, cell.pointer + "/material",
+          fmt::format("cell '{}': {} at (u,v,w) = ({:.6g}, {:.6g}, {:.6g}), (x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm: "
+                      "slicing stops with an error at the first voxel there; correct the material, or set "
+                      "\"fraction_sums\" to \"normalise\" to scale such sums down",
+                      cell.name, f.rule, f.uvw.x, f.uvw.y, f.uvw.z, f.xyz.x, f.xyz.y, f.xyz.z));
+    }
+  }
+  fmt::print("  fraction sums: {} of {} cells proved within the scene's policy ({})\n", proved, checks.size(),
+             scene.fraction_policy.policy == SumPolicy::kError
+                 ? fmt::format("\"error\", tolerance {}", scene.fraction_policy.tolerance)
+                 : std::string("\"normalise\": only finite values to prove"));
+  if (unproved > 0) {
+    fmt::print(
+        "cannot prove: the fraction sums of {} cell{} (above); the job can run, but stops at the first voxel whose "
+        "fractions break the rule\n",
+        unproved, unproved == 1 ? "" : "s");
+    return;
+  }
   fmt::print("ok: the job can run\n");
 }
 
@@ -66,6 +104,8 @@ void print_scene_info(const std::string& scene_path) {
   for (const MaterialDef& m : scene.materials)
     fmt::print("  material {}: rgba {},{},{},{}\n", m.name, m.rgba[0], m.rgba[1], m.rgba[2], m.rgba[3]);
   fmt::print("  pixels {:.4f} x {:.4f} mm, layers {:.4f} mm\n", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job_params_of(o))))
+    fmt::print("  warning: {}\n", w);
   fmt::print("estimate for `trivox slice` with the default options:\n");
   print_estimate(estimate_job(slicer, job_params_of(o)));
 }

@@ -10,6 +10,7 @@
 #include "cli_checks.h"
 #include "cli_errors.h"
 #include "trivox/error.h"
+#include "trivox/output/display_colours.h"
 #include "trivox/output/layer_writer.h"
 
 namespace trivox::cli {
@@ -209,9 +210,9 @@ void print_estimate(const JobEstimate& e) {
              e.padded_layers);
   fmt::print("  bitmap: {} x {} px, {} voxels in all\n", e.width_px, e.height_px, e.pixels);
   if (e.sampled_layers > 0) {
-    // The layer files, the whole-job files and the manifest.
+    // The layer files, the whole-job files, stats.json and the manifest.
     fmt::print("  output: about {} in {} files (from {} sample layers)\n", byte_text(e.output_bytes),
-               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 1, e.sampled_layers);
+               static_cast<std::int64_t>(e.files_per_layer) * e.job_layers + e.whole_job_files + 2, e.sampled_layers);
     if (e.scratch_bytes > 0)
       fmt::print("  spool files: about {} more while the job runs (removed when it completes)\n",
                  byte_text(e.scratch_bytes));
@@ -222,6 +223,24 @@ void print_estimate(const JobEstimate& e) {
              e.stack_memory_bytes > 0
                  ? fmt::format(" ({} of it for the stack outputs)", byte_text(e.stack_memory_bytes))
                  : std::string());
+}
+
+std::vector<std::string> colour_warnings(const Scene& scene, const std::array<std::uint8_t, 4>& background) {
+  std::vector<Rgba> rgba;
+  for (const MaterialDef& m : scene.materials) rgba.push_back(m.rgba);
+  const std::vector<Rgb> shown = display_colours(rgba, background);
+  std::vector<std::string> lines;
+  for (const SimilarColours& pair : similar_colours(rgba)) {
+    const MaterialDef& a = scene.materials[static_cast<std::size_t>(pair.first)];
+    const MaterialDef& b = scene.materials[static_cast<std::size_t>(pair.second)];
+    const Rgb& c = shown[static_cast<std::size_t>(pair.second)];
+    lines.push_back(fmt::format(
+        "materials '{}' and '{}' have nearly the same colour (difference {:.1f}, below {:g}): the layer images "
+        "keep both exact colours, but a person cannot tell them apart, so previews show '{}' as #{:02X}{:02X}{:02X}; "
+        "give one of them a colour of its own (\"rgba\") to see them apart everywhere",
+        a.name, b.name, pair.difference, kDistinctColourDifference, b.name, c[0], c[1], c[2]));
+  }
+  return lines;
 }
 
 }  // namespace trivox::cli

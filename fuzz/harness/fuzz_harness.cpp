@@ -1,16 +1,55 @@
 #include "harness/fuzz_harness.h"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <array>
+#include <atomic>
+#include <chrono>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "harness/pipeline_job.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/material/expression_material.h"
 #include "trivox/scene/scene.h"
+#include "trivox/slice/job.h"
+#include "trivox/slice/job_estimate.h"
+#include "trivox/slice/job_folder.h"
+#include "trivox/slice/slicer.h"
+
+// The heap's size and its peak, counted by the sanitizer allocator's hooks where there is
+// one (AddressSanitizer builds: the fuzzers and the sanitizer test suite).
+#if defined(__SANITIZE_ADDRESS__)
+#define TRIVOX_FUZZ_HEAP 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TRIVOX_FUZZ_HEAP 1
+#endif
+#endif
+
+#ifdef TRIVOX_FUZZ_HEAP
+#include <sanitizer/allocator_interface.h>
+
+namespace {
+std::atomic<long long> g_heap_bytes{0}, g_heap_peak{0};
+
+void on_malloc(const volatile void*, std::size_t size) {
+  const long long now = g_heap_bytes.fetch_add(static_cast<long long>(size)) + static_cast<long long>(size);
+  long long peak = g_heap_peak.load();
+  while (now > peak && !g_heap_peak.compare_exchange_weak(peak, now)) {
+  }
+}
+void on_free(const volatile void* p) {
+  g_heap_bytes.fetch_sub(static_cast<long long>(__sanitizer_get_allocated_size(const_cast<const void*>(p))));
+}
+const bool g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free) != 0;
+}  // namespace
+#endif
 
 namespace trivox::fuzz {
 
@@ -76,9 +115,43 @@ void write_file(const std::filesystem::path& path, std::string_view text) {
   if (!out) throw std::runtime_error("cannot write " + path.string());
 }
 
+// write_g2 promises that a model read from .g2 reads back identical.
+void check_g2_round_trip(const Model& model) {
+  std::ostringstream out;
+  write_g2(out, model);
+  Model back;
+  try {
+    back = read_g2(out.str(), "round-trip.g2");
+  } catch (const Error& e) {
+    throw HarnessViolation(std::string("an accepted .g2 model does not read back from write_g2: ") + e.what());
+  }
+  if (back.patches.size() != model.patches.size())
+    throw HarnessViolation("an accepted .g2 model reads back from write_g2 with another patch count");
+  for (std::size_t i = 0; i < model.patches.size(); ++i) {
+    const TensorSpline& s = model.patches[i].spline;
+    const TensorSpline& t = back.patches[i].spline;
+    const bool same = s.all_knots() == t.all_knots() && s.point_dim() == t.point_dim() &&
+                      std::equal(s.points().begin(), s.points().end(), t.points().begin(), t.points().end()) &&
+                      std::equal(s.weights().begin(), s.weights().end(), t.weights().begin(), t.weights().end()) &&
+                      model.patches[i].header_aux == back.patches[i].header_aux;
+    if (!same) throw HarnessViolation("an accepted .g2 model reads back from write_g2 with other values");
+  }
+}
+
 }  // namespace
 
 void run_itd(std::span<const std::uint8_t> data) { run_model_reader(&read_itd, data, "fuzz.itd"); }
+
+void run_g2(std::span<const std::uint8_t> data) {
+  Model model;
+  try {
+    model = read_g2(as_text(data), "fuzz.g2");
+  } catch (const Error&) {
+    return;
+  }
+  check_g2_round_trip(model);
+  check_round_trip(model);
+}
 
 void run_gismo_xml(std::span<const std::uint8_t> data) { run_model_reader(&read_gismo_xml, data, "fuzz.xml"); }
 
@@ -113,6 +186,105 @@ void run_expression(std::span<const std::uint8_t> data) {
     std::vector<float> fractions(kSamples * static_cast<std::size_t>(material.num_materials()));
     material.evaluate_row(uvw, xyz, fractions);
   } catch (const Error&) {
+  }
+}
+
+namespace {
+
+// The memory the fuzzed jobs may use beyond what the process holds when the input starts
+// (the fuzzer's own corpus, a sanitizer's shadow), as `trivox slice --memory-limit` gives it.
+constexpr std::uint64_t kPipelineMemoryLimit = 256'000'000;
+// Jobs of more pixels are not sliced: the fuzzer's 10 s hold for jobs up to 1e6 pixels of a
+// cubic volume (a pixel of a higher order volume costs more evaluations: the limit shrinks
+// with the orders' product). The set-up's outline meshes cost about two evaluations per
+// pixel of the whole model's faces, however few layers are sliced, so a model whose control
+// points' box has more face pixels than that is not even prepared.
+constexpr double kPipelinePixels = 1e6;
+
+// Pixels of the six faces of `box` at the printer's resolution (the outline meshes' budget,
+// slicer.cpp).
+double face_pixels(const Box3& box, const PrinterProfile& printer) {
+  const Vec3 size = box.size();
+  const double w = size.x / printer.pitch_x_mm() + 1, h = size.y / printer.pitch_y_mm() + 1,
+               l = size.z / printer.layer_thickness_mm + 1;
+  return 2 * (w * h + h * l + l * w);
+}
+
+std::uint64_t resident_bytes_now() {
+  std::ifstream statm("/proc/self/statm");
+  std::uint64_t size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+}
+
+}  // namespace
+
+PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir) {
+  const auto start = std::chrono::steady_clock::now();
+  PipelineOutcome outcome;
+  const auto finish = [&](PipelineOutcome::Kind kind) {
+    outcome.kind = kind;
+    outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return outcome;
+  };
+  const PipelineJob job = generate_pipeline_job(data);
+  try {
+    const Scene scene = parse_scene(job.scene_json, work_dir / "scene.json");
+    SliceParams sp;
+    sp.tracing = parse_tracing_strategy(job.tracing).value_or(TracingStrategy::kFlood);
+    sp.newton.residual_tolerance_model = job.residual_tolerance_mm;
+    sp.outline_tolerance_mm = job.outline_tolerance_mm;
+    const std::uint64_t memory_limit = resident_bytes_now() + kPipelineMemoryLimit;
+    sp.memory_limit_bytes = memory_limit;
+    double order_product = 1, model_face_pixels = 0;
+    for (const Cell& c : scene.cells) {
+      const auto o = c.volume.orders();
+      order_product = std::max(order_product, static_cast<double>(o[0]) * o[1] * o[2]);
+      model_face_pixels += face_pixels(c.volume.bounds(), scene.printer);
+    }
+    // (NaN, from a box beyond the doubles, counts as too large.)
+    if (!(model_face_pixels * order_product / 64.0 <= kPipelinePixels)) return finish(PipelineOutcome::Kind::kTooLarge);
+    const Slicer slicer(scene, sp);
+    const SliceLayout& L = slicer.layout();
+    JobParams jp;
+    jp.output_dir = work_dir / "job";
+    std::filesystem::remove_all(jp.output_dir);
+    jp.formats = job.formats;
+    jp.first_layer = std::min(L.num_layers - 1, static_cast<int>(job.first_layer_fraction * L.num_layers));
+    jp.last_layer = std::min(L.num_layers - 1, jp.first_layer + job.layer_count - 1);
+    jp.min_layers = 0;
+    jp.threads = job.threads;
+    const double pixels =
+        static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1) * order_product / 64.0;
+    outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
+    if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
+    const std::uint64_t resident = resident_bytes_now();
+    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, memory_limit});
+    check_job_fits(e, jp, memory_limit, std::nullopt);
+#ifdef TRIVOX_FUZZ_HEAP
+    const long long heap_before = g_heap_bytes.load();
+    g_heap_peak.store(heap_before);
+#endif
+    const JobStats stats = run_slice_job(slicer, jp);
+#ifdef TRIVOX_FUZZ_HEAP
+    const double grown = static_cast<double>(g_heap_peak.load() - heap_before);
+    const double own_estimate = static_cast<double>(e.peak_memory_bytes) - static_cast<double>(resident);
+    outcome.heap_grown_bytes = grown;
+    outcome.estimate_bytes = own_estimate;
+    if (grown > 1.5 * std::max(0.0, own_estimate) + 64e6)
+      throw HarnessViolation("the job's heap grew by " + std::to_string(grown / 1e6) + " MB, more than 1.5 times its " +
+                             "own estimate of " + std::to_string(own_estimate / 1e6) + " MB plus 64 MB");
+#endif
+    if (stats.interrupted) throw HarnessViolation("a job with no stop flag reports itself interrupted");
+    const VerifyReport report = verify_output(jp.output_dir);
+    if (!report.ok()) throw HarnessViolation("a completed job does not verify: " + report.problems.front());
+    return finish(PipelineOutcome::Kind::kSliced);
+  } catch (const HarnessViolation&) {
+    throw;
+  } catch (const Error& e) {
+    // A documented refusal: bad or unworkable input, or a job too large for the limits.
+    outcome.refusal = std::string(e.what()).substr(0, 160);
+    return finish(PipelineOutcome::Kind::kRefused);
   }
 }
 
@@ -151,6 +323,10 @@ bool run_target(std::string_view target, std::span<const std::uint8_t> data, con
     run_scene(data, scene_dir);
   else if (target == "expression")
     run_expression(data);
+  else if (target == "pipeline")
+    run_pipeline(data, scene_dir / "pipeline");
+  else if (target == "g2")
+    run_g2(data);
   else
     return false;
   return true;

@@ -23,6 +23,11 @@ constexpr std::optional<std::int64_t> product_within(std::int64_t a, std::int64_
   return a * b;
 }
 
+// Triangles of one triangle mesh read from a file (a mesh trim), after a 3MF file's
+// components and build items are instanced. 5e7 triangles are a 2.5 GB binary STL; welded,
+// checked and bucketed by height they take about 4 GB.
+inline constexpr std::int64_t kMaxMeshTriangles = 50'000'000;
+
 // Materials in one scene (besides void). Labels of dithered layers are bytes with 0 for void,
 // and error diffusion keeps one error term per material and pixel, so the bound stays small.
 inline constexpr int kMaxMaterials = 64;
@@ -31,5 +36,10 @@ inline constexpr int kMaxMaterials = 64;
 // pixels; each pixel of a layer in flight costs some tens of bytes, so beyond this a job is a
 // unit or resolution mistake that would exhaust memory, and it is refused up front.
 inline constexpr long long kMaxLayerPixels = 1LL << 30;
+
+// Coordinates per control point in a model file (G+Smo's geoDim, GoTools' dimension).
+inline constexpr int kMaxModelPointDim = 1000;
+// Auxiliary integers in the header of one GoTools object (a colour takes 4).
+inline constexpr int kMaxModelHeaderValues = 1000;
 
 }  // namespace trivox

@@ -119,7 +119,8 @@ void bind_model(py::module_& m) {
         return read_model(path);
       },
       py::arg("path"),
-      "Reads a model file by its type: IRIT .itd or G+Smo .xml (trivox::read_model). Raises InputError (file, "
+      "Reads a model file by its type: IRIT .itd, G+Smo .xml or GoTools .g2 (trivox::read_model). Raises InputError "
+      "(file, "
       "line, rule) for malformed content, UnsupportedError for valid but unsupported content, IoError when the "
       "file cannot be read.");
   m.def("read_itd", &read_itd, py::arg("text"), py::arg("source") = "<string>", "Parses IRIT .itd text.");
@@ -135,6 +136,31 @@ void bind_model(py::module_& m) {
       py::arg("model"),
       "IRIT .itd text of a Model or a list of Spline, Volume or Patch objects (17 significant digits: reading it "
       "back gives the same doubles).");
+  m.def("read_g2", &read_g2, py::arg("text"), py::arg("source") = "<string>", "Parses GoTools .g2 text.");
+  m.def(
+      "to_g2",
+      [](const py::handle& items) {
+        const Model model = as_model(items);
+        std::ostringstream out;
+        write_g2(out, model);
+        return out.str();
+      },
+      py::arg("model"),
+      "GoTools .g2 text of a Model or a list of Spline, Volume or Patch objects (SplineCurve, SplineSurface, "
+      "SplineVolume; 17 significant digits, rational points homogeneous so that they read back to the same "
+      "doubles).");
+  m.def(
+      "to_gismo_xml",
+      [](const py::handle& items) {
+        const Model model = as_model(items);
+        std::ostringstream out;
+        write_gismo_xml(out, model);
+        return out.str();
+      },
+      py::arg("model"),
+      "G+Smo XML text of a Model or a list of Spline, Volume or Patch objects: a <Geometry> per patch and, when "
+      "all have the same number of parameters, a <MultiPatch> with the interfaces found from shared faces; "
+      "read_gismo_xml gives the same doubles back.");
 
   m.def(
       "read_png",

@@ -184,7 +184,19 @@ def test_itd_text_reads_back_to_the_same_doubles(column, tmp_path):
     assert back[0] == column and back[1] == vol
     assert trivox.read_itd(trivox.to_itd([vol])).volumes()[0] == vol
     with pytest.raises(ValueError, match=r"\.itd"):
-        trivox.write(str(tmp_path / "x.xml"), [vol])
+        trivox.write(str(tmp_path / "x.stl"), [vol])
+
+
+@pytest.mark.parametrize("ext", [".xml", ".g2"])
+def test_gismo_and_gotools_files_read_back_to_the_same_doubles(column, tmp_path, ext):
+    vol = trivox.Volume(annulus_spline())  # rational: the weights must survive too
+    path = tmp_path / ("round" + ext)
+    trivox.write(path, [column, vol])
+    back = trivox.read(str(path)).volumes()
+    assert len(back) == 2 and back[0] == column and back[1] == vol
+    text = trivox.to_gismo_xml([column, vol]) if ext == ".xml" else trivox.to_g2([column, vol])
+    reread = trivox.read_gismo_xml(text) if ext == ".xml" else trivox.read_g2(text)
+    assert reread.volumes()[1] == vol
 
 
 def test_a_broken_spline_raises_model_error_naming_the_rule():

@@ -58,6 +58,9 @@ from ._trivox import (
     shell,
     sweep,
     to_itd,
+    to_g2,
+    to_gismo_xml,
+    read_g2,
     untangle,
     write_png,
 )
@@ -105,13 +108,17 @@ thick_shell = shell
 
 
 def write(path: _Union[str, "_os.PathLike[str]"], model: Any) -> None:
-    """Writes a Model, or a list of Spline, Volume or Patch objects, as an IRIT .itd file (the
-    model format the library writes; 17 significant digits, so it reads back to the same
-    doubles). Layer images, stacks and packages are written by slice()."""
+    """Writes a Model, or a list of Spline, Volume or Patch objects, as a model file chosen by
+    the extension: IRIT .itd, G+Smo .xml (with the multi-patch interfaces) or GoTools .g2; 17
+    significant digits, so each reads back to the same doubles. Layer images, stacks and
+    packages are written by slice()."""
     path = _os.fspath(path)
-    if not path.lower().endswith(".itd"):
-        raise ValueError(f"{path}: trivox writes models as IRIT .itd files; name the file *.itd")
-    text = to_itd(model)
+    writers = {".itd": to_itd, ".xml": to_gismo_xml, ".g2": to_g2}
+    ext = _os.path.splitext(path)[1].lower()
+    if ext not in writers:
+        raise ValueError(f"{path}: trivox writes models as IRIT .itd, G+Smo .xml or GoTools .g2 files; "
+                         "name the file by one of these extensions")
+    text = writers[ext](model)
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
 
@@ -143,5 +150,5 @@ __all__ = [
     "insert_knot", "inspect_volume", "join_surfaces", "material_library", "materials",
     "printer_profile", "printer_profile_names", "read", "read_gismo_xml", "read_itd", "read_png",
     "read_scene", "revolve", "ruled", "scene", "shell", "slice", "slice_layer", "slicing", "sweep",
-    "thick_shell", "to_itd", "untangle", "write", "write_png",
+    "thick_shell", "to_itd", "to_g2", "to_gismo_xml", "read_g2", "untangle", "write", "write_png",
 ]

@@ -16,6 +16,16 @@
 
 namespace trivox {
 
+namespace {
+
+// A box whose image is at most this many residual tolerances across, and whose centre is
+// joined to a root already found, is not searched (GlobalSolver::solve): small enough that
+// it cannot hold a second, separate regular root beside one at its centre, and large enough
+// to stop the splitting along a collapsed set early.
+constexpr double kJoinedImage = 100.0;
+
+}  // namespace
+
 std::string_view to_string(GlobalStatus s) noexcept {
   switch (s) {
     case GlobalStatus::kNone: return "none";
@@ -104,13 +114,17 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
     std::vector<detail::BezierNet> nets;
     std::vector<int> free, stack, first_pieces;
     std::vector<char> singular;  // per preimage, while classifying them
+    std::vector<int> set_of;     // per preimage: another of its collapsed set (union-find)
     std::vector<Preimage> found;
+    // Roots with a box joined to them farther away than roots merge: on a collapsed set.
+    std::vector<Vec3> collapsed;
   };
   thread_local Scratch scratch;
   Scratch& sc = scratch;
   sc.free.clear();
   sc.stack.clear();
   sc.found.clear();
+  sc.collapsed.clear();
   sc.first_pieces.clear();
   for (int i = static_cast<int>(sc.nets.size()) - 1; i >= 0; --i) sc.free.push_back(i);
   auto acquire = [&sc]() {
@@ -138,6 +152,42 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
     return true;
   };
 
+  // Whether V maps the points at 1/4, 1/2 and 3/4 of the segment from a to b within 10 times
+  // the tolerance of x (and b itself, when asked): a and b lie on one connected set of
+  // (nearly) preimages of x, such as a face or edge collapsed onto x.
+  const double joined_tol = 10 * tol;
+  auto joined = [&](Vec3 a, Vec3 b, bool check_b) {
+    if (check_b && norm(volume.evaluate(b) - x) > joined_tol) return false;
+    for (double s : {0.25, 0.5, 0.75})
+      if (norm(volume.evaluate((1 - s) * a + s * b) - x) > joined_tol) return false;
+    return true;
+  };
+  auto same_root = [&](Vec3 a, Vec3 b) {
+    for (int d = 0; d < 3; ++d)
+      if (std::abs(a[d] - b[d]) > params.same_root_relative * dom_size[d]) return false;
+    return true;
+  };
+  // A box joined to a root may hold a second root of the same set, farther from it than
+  // roots merge (a collapsed edge, or a singular point where V is flat to second order):
+  // Newton from the box's centre finds it, as the box's own search would have. Then the root
+  // lies on a collapsed set, as the classification below would find from the two roots.
+  // Once a root is known to lie on one, its other joined boxes need no Newton run.
+  auto on_collapsed_set = [&](Vec3 r) {
+    return std::any_of(sc.collapsed.begin(), sc.collapsed.end(), [&](Vec3 c) { return c == r; });
+  };
+  auto joined_to_found = [&](Vec3 c) {
+    for (const Preimage& r : found) {
+      if (!joined(r.uvw, c, true)) continue;
+      if (!same_root(r.uvw, c) && !on_collapsed_set(r.uvw)) {
+        const InverseResult n = detail::newton_in_box(volume, x, c, dom, params.newton);
+        if (n.status == InverseStatus::kConverged && !same_root(r.uvw, n.uvw) && joined(r.uvw, n.uvw, false))
+          sc.collapsed.push_back(r.uvw);
+      }
+      return true;
+    }
+    return false;
+  };
+
   // Depth-first over a stack; pieces are pushed in reverse so that they pop in order,
   // which keeps the search (and so its result) deterministic.
   pieces_->index.query(x, box_tol, sc.first_pieces);
@@ -162,6 +212,12 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
       exhausted = true;
       break;
     }
+    // A small box whose centre is joined to a root already found (see joined() below) lies
+    // on that root's collapsed set, or at the root itself: what it holds is that root again.
+    // Near a collapsed edge the set of parameters that map within the tolerance of x is a
+    // long thin region, and without this every box along it would be split down to a leaf
+    // whose Newton run adds one more near-duplicate root (thousands, past the box budget).
+    if (!found.empty() && b.diagonal() <= kJoinedImage * tol && joined_to_found(net.box.center())) continue;
     // A box whose image is below the tolerance is a leaf: whatever root it holds is found by
     // Newton from its centre.
     const Vec3 psize = net.box.size();
@@ -206,31 +262,53 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
     return std::tie(a.uvw.x, a.uvw.y, a.uvw.z) < std::tie(b.uvw.x, b.uvw.y, b.uvw.z);
   });
   for (const Preimage& p : found) {
-    const bool duplicate = std::any_of(result.preimages.begin(), result.preimages.end(), [&](const Preimage& q) {
-      for (int d = 0; d < 3; ++d)
-        if (std::abs(p.uvw[d] - q.uvw[d]) > params.same_root_relative * dom_size[d]) return false;
-      return true;
-    });
+    const bool duplicate = std::any_of(result.preimages.begin(), result.preimages.end(),
+                                       [&](const Preimage& q) { return same_root(p.uvw, q.uvw); });
     if (!duplicate) result.preimages.push_back(p);
   }
   // Two preimages joined by a segment that V maps onto x lie on one degenerate set (a face
-  // or edge collapsed to a point or line), not on two sheets of a fold.
+  // or edge collapsed to a point or line), not on two sheets of a fold. Each such set is
+  // reported once, by its first preimage in (u, v, w) order; it is singular. A preimage on
+  // its own is singular when |det J| is below the threshold.
   const std::size_t n = result.preimages.size();
   std::vector<char>& singular = sc.singular;
+  std::vector<int>& set_of = sc.set_of;
   singular.assign(n, 0);
-  for (std::size_t i = 0; i < n; ++i)
+  set_of.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    set_of[i] = static_cast<int>(i);
     singular[i] = !(std::abs(result.preimages[i].det) > params.singular_relative * typical_abs_det_);
+  }
+  auto root_of = [&](int i) {
+    while (set_of[static_cast<std::size_t>(i)] != i) i = set_of[static_cast<std::size_t>(i)];
+    return i;
+  };
   for (std::size_t i = 0; i < n; ++i)
     for (std::size_t j = i + 1; j < n; ++j) {
-      bool joined = true;
-      for (double s : {0.25, 0.5, 0.75}) {
-        const Vec3 t = (1 - s) * result.preimages[i].uvw + s * result.preimages[j].uvw;
-        if (norm(volume.evaluate(t) - x) > 10 * tol) joined = false;
-      }
-      if (joined) singular[i] = singular[j] = 1;
+      if (root_of(static_cast<int>(i)) == root_of(static_cast<int>(j))) continue;
+      if (!joined(result.preimages[i].uvw, result.preimages[j].uvw, false)) continue;
+      const int a = root_of(static_cast<int>(i)), b = root_of(static_cast<int>(j));
+      set_of[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);  // the first stays the set's
+      singular[static_cast<std::size_t>(std::min(a, b))] = 1;
     }
-  int regular = 0;
+  // A root that a distant box was joined to during the search lies on a collapsed set too,
+  // even when no second root of that set was kept.
+  for (const Vec3& c : sc.collapsed)
+    for (std::size_t i = 0; i < n; ++i)
+      if (same_root(c, result.preimages[i].uvw)) {
+        singular[static_cast<std::size_t>(root_of(static_cast<int>(i)))] = 1;
+        break;
+      }
+  std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i)
+    if (root_of(static_cast<int>(i)) == static_cast<int>(i)) {
+      result.preimages[kept] = result.preimages[i];
+      singular[kept] = singular[i];
+      ++kept;
+    }
+  result.preimages.resize(kept);
+  int regular = 0;
+  for (std::size_t i = 0; i < kept; ++i)
     if (!singular[i]) ++regular;
   if (exhausted)
     result.status = GlobalStatus::kIncomplete;
@@ -248,7 +326,8 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
 namespace {
 
 // The largest dot(direction, V) over the nets' images, to within `tolerance`, from above.
-double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 direction, double tolerance, int max_nets) {
+double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 direction, double tolerance,
+                      std::int64_t max_points) {
   struct Entry {
     double upper;  // max_along(direction) of the net's control points
     std::size_t order;
@@ -275,12 +354,13 @@ double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 directi
     std::push_heap(heap.begin(), heap.end(), later);
   };
   for (const detail::BezierNet& net : pieces) push(net);
-  for (int halvings = 0; !heap.empty(); ++halvings) {
+  for (std::int64_t work = 0; !heap.empty();) {
     std::pop_heap(heap.begin(), heap.end(), later);
     Entry top = std::move(heap.back());
     heap.pop_back();
     // Every net left is bounded by top.upper; the image reaches `attained`.
-    if (top.upper - attained <= tolerance || halvings >= max_nets) return top.upper;
+    if (top.upper - attained <= tolerance || work >= max_points) return top.upper;
+    work += static_cast<std::int64_t>(top.net.h.size());
     const std::array<double, 3> extent = top.net.extents();
     const int d = static_cast<int>(std::max_element(extent.begin(), extent.end()) - extent.begin());
     auto halves = top.net.halve(d);
@@ -292,14 +372,14 @@ double supremum_along(const std::vector<detail::BezierNet>& pieces, Vec3 directi
 
 }  // namespace
 
-Box3 GlobalSolver::image_bounds(double tolerance_model, int max_nets) const {
+Box3 GlobalSolver::image_bounds(double tolerance_model, std::int64_t max_points) const {
   Box3 box;
   if (pieces_->nets.empty()) return box;
   for (int a = 0; a < 3; ++a) {
     Vec3 e{};
     e[a] = 1.0;
-    box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_nets);
-    box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_nets);
+    box.hi[a] = supremum_along(pieces_->nets, e, tolerance_model, max_points);
+    box.lo[a] = -supremum_along(pieces_->nets, -1.0 * e, tolerance_model, max_points);
   }
   // The bounds hold the exact image; evaluating V rounds, by a few units in the last place of
   // the coordinates, so the box is widened by that much to hold every evaluated point too.

@@ -1,5 +1,5 @@
 // read_model: picks the reader by file extension, or by the first character of the content
-// when the extension says nothing ('<' is XML, '[' is IRIT text).
+// when the extension says nothing ('<' is XML, '[' is IRIT text, a digit is a GoTools header).
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -50,6 +50,7 @@ Model read_model(const std::filesystem::path& path) {
   const std::string ext = lowercase(path.extension().string());
   if (ext == ".itd") return read_itd(text, source);
   if (ext == ".xml") return read_gismo_xml(text, source);
+  if (ext == ".g2") return read_g2(text, source);
 
   // Unknown extension: sniff. A UTF-8 byte order mark may precede an XML file.
   std::string_view head = text;
@@ -57,8 +58,27 @@ Model read_model(const std::filesystem::path& path) {
   const std::size_t first = head.find_first_not_of(" \t\r\n");
   if (first != std::string_view::npos && head[first] == '<') return read_gismo_xml(text, source);
   if (first != std::string_view::npos && head[first] == '[') return read_itd(text, source);
-  throw InputError(source, 0, "",
-                   fmt::format("unknown model format '{}': expected IRIT text (.itd) or G+Smo XML (.xml)", ext));
+  // A GoTools file starts with an object header: a class number such as 700.
+  if (first != std::string_view::npos && head[first] >= '0' && head[first] <= '9') return read_g2(text, source);
+  throw InputError(
+      source, 0, "",
+      fmt::format("unknown model format '{}': expected IRIT text (.itd), G+Smo XML (.xml) or GoTools (.g2)", ext));
+}
+
+std::optional<ModelFormat> model_format_of(const std::filesystem::path& path) {
+  const std::string ext = lowercase(path.extension().string());
+  if (ext == ".itd") return ModelFormat::kItd;
+  if (ext == ".xml") return ModelFormat::kGismoXml;
+  if (ext == ".g2") return ModelFormat::kG2;
+  return std::nullopt;
+}
+
+void write_model(std::ostream& out, const Model& model, ModelFormat format) {
+  switch (format) {
+    case ModelFormat::kItd: write_itd(out, model); return;
+    case ModelFormat::kGismoXml: write_gismo_xml(out, model); return;
+    case ModelFormat::kG2: write_g2(out, model); return;
+  }
 }
 
 }  // namespace trivox

@@ -22,7 +22,7 @@ CheckedMaterial::CheckedMaterial(std::shared_ptr<const MaterialFunction> inner, 
 void CheckedMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz,
                                    std::span<float> fractions) const {
   inner_->evaluate_row(uvw, xyz, fractions);
-  apply_fraction_policy(policy_, site_, num_materials(), uvw, fractions);
+  apply_fraction_policy(policy_, site_, num_materials(), uvw, fractions, xyz);
 }
 
 void CheckedMaterial::bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const {

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
+#include "material/enclosure_util.h"
 #include "trivox/error.h"
 
 namespace trivox {
@@ -162,6 +165,99 @@ void TransferMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const V
   const auto m = static_cast<std::size_t>(num_materials());
   const std::vector<float> s = evaluate_part(*source_, uvw, xyz);
   for (std::size_t i = 0; i < uvw.size(); ++i) gradient_ramp(stops_, s[i], fractions.subspan(i * m, m));
+}
+
+namespace {
+
+// The parts' enclosures as the float values the composition combines.
+FractionEnclosure part(const MaterialFunction& f, const ParamBox& box, const Box3& xyz) {
+  return detail::as_floats(f.enclose(box, xyz));
+}
+
+// {a + t (b - a) : a in A, b in B, t in T}, T within [0, 1]: bilinear, so the extremes are at
+// the corners.
+Interval lerp(const Interval& a, const Interval& b, const Interval& t) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (double av : {a.lo, a.hi})
+    for (double bv : {b.lo, b.hi})
+      for (double tv : {t.lo, t.hi}) {
+        const double v = (1.0 - tv) * av + tv * bv;
+        lo = std::min(lo, v);
+        hi = std::max(hi, v);
+      }
+  return {lo, hi};
+}
+
+FractionEnclosure hull(const FractionEnclosure& a, const FractionEnclosure& b) {
+  FractionEnclosure e = a;
+  for (std::size_t j = 0; j < e.fractions.size(); ++j) e.fractions[j] = e.fractions[j].hull(b.fractions[j]);
+  e.sum = e.sum.hull(b.sum);
+  e.finite = a.finite && b.finite;
+  return e;
+}
+
+}  // namespace
+
+FractionEnclosure BlendMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  const FractionEnclosure a = part(*a_, box, xyz), b = part(*b_, box, xyz), w = part(*weight_, box, xyz);
+  if (!w.finite) return FractionEnclosure::unknown(num_materials());  // a NaN weight gives NaN
+  const Interval t = detail::unit_clamped(detail::scalar_of(w));
+  FractionEnclosure e;
+  e.fractions.resize(a.fractions.size());
+  for (std::size_t j = 0; j < e.fractions.size(); ++j) e.fractions[j] = lerp(a.fractions[j], b.fractions[j], t);
+  e.sum = lerp(a.sum, b.sum, t);
+  e.finite = a.finite && b.finite;
+  return detail::as_floats(e);
+}
+
+FractionEnclosure ThresholdMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  const FractionEnclosure s = part(*source_, box, xyz);
+  const Interval v = detail::scalar_of(s);
+  if (s.finite && v.hi < level_) return part(*below_, box, xyz);
+  if (s.finite && v.lo >= level_) return part(*above_, box, xyz);
+  return hull(part(*below_, box, xyz), part(*above_, box, xyz));  // NaN goes below: in the hull
+}
+
+FractionEnclosure SelectMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  const ParamBox b = map_(box);
+  std::optional<FractionEnclosure> e;
+  const auto include = [&](const MaterialFunction& f) {
+    FractionEnclosure p = part(f, box, xyz);
+    e = e ? hull(*e, p) : p;
+  };
+  for (const SelectRegion& r : regions_) {
+    const ParamBox& rb = r.box;
+    const bool meets = b.lo.x <= rb.hi.x && b.hi.x >= rb.lo.x && b.lo.y <= rb.hi.y && b.hi.y >= rb.lo.y &&
+                       b.lo.z <= rb.hi.z && b.hi.z >= rb.lo.z;
+    if (!meets) continue;
+    include(*r.material);
+    const bool holds = rb.lo.x <= b.lo.x && b.hi.x <= rb.hi.x && rb.lo.y <= b.lo.y && b.hi.y <= rb.hi.y &&
+                       rb.lo.z <= b.lo.z && b.hi.z <= rb.hi.z;
+    if (holds) return *e;  // every sample of the box is in this region or an earlier one
+  }
+  include(*otherwise_);
+  return *e;
+}
+
+FractionEnclosure VoidMaskMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  FractionEnclosure e = part(*material_, box, xyz);
+  const FractionEnclosure v = part(*void_share_, box, xyz);
+  if (!v.finite) return FractionEnclosure::unknown(num_materials());
+  const Interval t = detail::unit_clamped(detail::scalar_of(v));
+  const Interval keep{1.0 - t.hi, 1.0 - t.lo};  // within [0, 1]
+  const auto scale = [&](const Interval& f) {
+    const double c[4] = {f.lo * keep.lo, f.lo * keep.hi, f.hi * keep.lo, f.hi * keep.hi};
+    return Interval{std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
+                    std::max(std::max(c[0], c[1]), std::max(c[2], c[3]))};
+  };
+  for (Interval& f : e.fractions) f = scale(f);
+  e.sum = scale(e.sum);
+  return detail::as_floats(e);
+}
+
+FractionEnclosure TransferMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  const FractionEnclosure s = part(*source_, box, xyz);
+  return detail::ramp_enclosure(stops_, detail::scalar_of(s), s.finite);
 }
 
 }  // namespace trivox

@@ -1,5 +1,7 @@
 #include "trivox/material/field_scalar_material.h"
 
+#include "material/spline_coefficient_bounds.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,6 +45,33 @@ void FieldScalarMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<cons
       values[s] = static_cast<float>(v[static_cast<std::size_t>(choice_.component)]);
     }
   }
+}
+
+FractionEnclosure FieldScalarMaterial::enclose(const ParamBox& box, const Box3&) const {
+  const TensorSpline piece = detail::restricted_piece(field_, map_(box));
+  const ParamBox whole{{piece.lo(0), piece.lo(1), piece.lo(2)}, {piece.hi(0), piece.hi(1), piece.hi(2)}};
+  const auto k = static_cast<std::size_t>(field_.point_dim());
+  std::array<double, kMaxMaterials> lo{}, hi{};
+  detail::coefficient_bounds(piece, whole, std::span<double>(lo.data(), k), std::span<double>(hi.data(), k));
+  Interval value;
+  if (choice_.magnitude) {
+    // sqrt of the sum of squares, each square from its component's interval.
+    double sq_lo = 0.0, sq_hi = 0.0;
+    for (std::size_t c = 0; c < k; ++c) {
+      const double a = std::abs(lo[c]), b = std::abs(hi[c]);
+      sq_lo += lo[c] <= 0.0 && hi[c] >= 0.0 ? 0.0 : std::min(a, b) * std::min(a, b);
+      sq_hi += std::max(a, b) * std::max(a, b);
+    }
+    value = {std::sqrt(sq_lo) * (1 - 1e-12), std::sqrt(sq_hi) * (1 + 1e-12) + 1e-300};
+  } else {
+    const auto c = static_cast<std::size_t>(choice_.component);
+    value = {lo[c] - std::abs(lo[c]) * 1e-12, hi[c] + std::abs(hi[c]) * 1e-12};
+  }
+  FractionEnclosure e;
+  e.fractions = {value};
+  e.sum = value;
+  e.finite = std::isfinite(value.lo) && std::isfinite(value.hi);
+  return e;
 }
 
 }  // namespace trivox

@@ -30,6 +30,34 @@ void MaterialFunction::bounds(const ParamBox&, std::span<float> lo, std::span<fl
   }
 }
 
+FractionEnclosure FractionEnclosure::unknown(int num_materials) {
+  FractionEnclosure e;
+  e.fractions.assign(static_cast<std::size_t>(num_materials), Interval::everything());
+  e.sum = Interval::everything();
+  e.finite = false;
+  return e;
+}
+
+FractionEnclosure MaterialFunction::enclose(const ParamBox& box, const Box3&) const {
+  const auto m = static_cast<std::size_t>(num_materials_);
+  std::vector<float> lo(m), hi(m);
+  bounds(box, lo, hi);
+  FractionEnclosure e;
+  e.finite = true;
+  e.sum = {0.0, 0.0};
+  for (std::size_t j = 0; j < m; ++j) {
+    e.fractions.push_back({lo[j], hi[j]});
+    e.finite = e.finite && std::isfinite(lo[j]) && std::isfinite(hi[j]);
+    e.sum.lo += lo[j];
+    e.sum.hi += hi[j];
+  }
+  // The sum of m doubles rounded outwards by a relative margin far above its error.
+  e.sum.lo -= std::abs(e.sum.lo) * 1e-12;
+  e.sum.hi += std::abs(e.sum.hi) * 1e-12;
+  if (!e.finite) e.sum = Interval::everything();
+  return e;
+}
+
 void FractionPolicy::validate() const {
   if (!std::isfinite(tolerance) || tolerance < 0.0 || tolerance >= 1.0)
     throw Error(fmt::format("fraction tolerance {} is not a finite value in [0, 1)", tolerance));
@@ -42,10 +70,16 @@ std::string material_label(const MaterialSite& site, int j) {
   return index < site.material_names.size() ? fmt::format("'{}'", site.material_names[index]) : fmt::format("{}", j);
 }
 
+std::string where_text(Vec3 p, const Vec3* xyz) {
+  std::string text = fmt::format("(u,v,w) = ({:.6g}, {:.6g}, {:.6g})", p.x, p.y, p.z);
+  if (xyz) text += fmt::format(", (x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm", xyz->x, xyz->y, xyz->z);
+  return text;
+}
+
 // Kept out of line so that the row loop stays small; it only runs on the way to an error.
-[[noreturn]] void fail(const MaterialSite& site, Vec3 p, const std::string& rule) {
-  throw InputError(site.source, 0, site.pointer,
-                   fmt::format("cell '{}': {} at (u,v,w) = ({}, {}, {})", site.cell, rule, p.x, p.y, p.z));
+[[noreturn]] void fail(const MaterialSite& site, std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::size_t s,
+                       const std::string& rule) {
+  throw FractionError(site, rule, uvw[s], s < xyz.size() ? &xyz[s] : nullptr);
 }
 
 }  // namespace
@@ -72,8 +106,37 @@ bool row_untouched(const float* f, std::size_t samples, std::size_t m) noexcept 
 
 }  // namespace
 
+FractionError::FractionError(const MaterialSite& site, std::string rule, Vec3 uvw, const Vec3* xyz)
+    : InputError(site.source, 0, site.pointer,
+                 fmt::format("cell '{}': {} at {}", site.cell, rule, where_text(uvw, xyz))),
+      cell_(site.cell),
+      broken_rule_(std::move(rule)),
+      source_(site.source),
+      pointer_(site.pointer),
+      uvw_(uvw),
+      xyz_(xyz ? *xyz : Vec3{}),
+      has_xyz_(xyz != nullptr) {}
+
+FractionError::FractionError(std::string file, std::string where, std::string message)
+    : InputError(std::move(file), 0, std::move(where), std::move(message)) {}
+
+FractionError FractionError::in_layer(int layer, double z_mm) const {
+  FractionError e(source_, pointer_,
+                  fmt::format("cell '{}': layer {} (z = {:.6g} mm): {} at {}", cell_, layer, z_mm, broken_rule_,
+                              where_text(uvw_, has_xyz_ ? &xyz_ : nullptr)));
+  e.cell_ = cell_;
+  e.broken_rule_ = broken_rule_;
+  e.source_ = source_;
+  e.pointer_ = pointer_;
+  e.uvw_ = uvw_;
+  e.xyz_ = xyz_;
+  e.has_xyz_ = has_xyz_;
+  e.layer_ = layer;
+  return e;
+}
+
 void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m, std::span<const Vec3> uvw,
-                           std::span<float> fractions) {
+                           std::span<float> fractions, std::span<const Vec3> xyz) {
   const auto count = static_cast<std::size_t>(m);
   const bool untouched = count == 1   ? row_untouched<1>(fractions.data(), uvw.size(), 1)
                          : count == 2 ? row_untouched<2>(fractions.data(), uvw.size(), 2)
@@ -89,12 +152,12 @@ void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& sit
     for (std::size_t j = 0; j < mm; ++j) {
       const float v = f[j];
       if (!std::isfinite(v))
-        fail(site, uvw[s],
+        fail(site, uvw, xyz, s,
              fmt::format("the fraction of material {} is {}, not a finite number",
                          material_label(site, static_cast<int>(j)), v));
       if (v < 0.0f) {
         if (strict && v < -tol)
-          fail(site, uvw[s],
+          fail(site, uvw, xyz, s,
                fmt::format("the fraction of material {} is {:.6g} < 0 (tolerance {}; the scene's "
                            "fraction policy is \"error\")",
                            material_label(site, static_cast<int>(j)), v, tol));
@@ -105,7 +168,7 @@ void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& sit
     }
     if (sum > 1.0) {
       if (strict && sum > 1.0 + tol)
-        fail(site, uvw[s],
+        fail(site, uvw, xyz, s,
              fmt::format("the fractions sum to {:.6g} > 1 (tolerance {}; the scene's fraction "
                          "policy is \"error\", \"normalise\" would scale them down)",
                          sum, tol));

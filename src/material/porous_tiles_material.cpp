@@ -123,4 +123,11 @@ void PorousTilesMaterial::bounds(const ParamBox& box, std::span<float> lo, std::
   if (clear) lo[j] = 1.0f;
 }
 
+FractionEnclosure PorousTilesMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  FractionEnclosure e = MaterialFunction::enclose(box, xyz);
+  e.sum = {0.0, 0.0};
+  for (const Interval& f : e.fractions) e.sum.hi = std::max(e.sum.hi, f.hi);
+  return e;
+}
+
 }  // namespace trivox

@@ -1,5 +1,7 @@
 #include "trivox/material/scalar_gradient_material.h"
 
+#include "material/enclosure_util.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -111,6 +113,14 @@ void ScalarGradientMaterial::bounds(const ParamBox& box, std::span<float> lo, st
   include(at);
   for (const GradientStop& stop : stops_)
     if (stop.value >= slo && stop.value <= shi) include(stop.fractions);
+}
+
+FractionEnclosure ScalarGradientMaterial::enclose(const ParamBox& box, const Box3&) const {
+  const TensorSpline piece = detail::restricted_piece(field_, map_(box));
+  const ParamBox whole{{piece.lo(0), piece.lo(1), piece.lo(2)}, {piece.hi(0), piece.hi(1), piece.hi(2)}};
+  double slo = 0.0, shi = 0.0;
+  detail::coefficient_bounds(piece, whole, std::span<double>(&slo, 1), std::span<double>(&shi, 1));
+  return detail::ramp_enclosure(stops_, {slo - std::abs(slo) * 1e-12, shi + std::abs(shi) * 1e-12}, true);
 }
 
 }  // namespace trivox

@@ -15,4 +15,18 @@ namespace trivox::detail {
 // the domain first.
 void coefficient_bounds(const TensorSpline& spline, const ParamBox& box, std::span<double> lo, std::span<double> hi);
 
+// The same for one weighted sum of the components, sum_q weights[q] P[q] (itself a spline
+// with those coefficients): the smallest and largest over the same control points.
+void coefficient_sum_bounds(const TensorSpline& spline, const ParamBox& box, std::span<const double> weights,
+                            double& lo, double& hi);
+
+}  // namespace trivox::detail
+
+namespace trivox::detail {
+
+// The spline restricted to a box of its parameters (clamped to its domain; knots inserted at
+// the box's faces), whose control coefficients are the tight hull of that piece; the spline
+// itself when the box is degenerate along a direction.
+TensorSpline restricted_piece(const TensorSpline& spline, const ParamBox& box);
+
 }  // namespace trivox::detail

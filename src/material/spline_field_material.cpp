@@ -82,4 +82,26 @@ void SplineFieldMaterial::bounds(const ParamBox& box, std::span<float> lo, std::
   }
 }
 
+FractionEnclosure SplineFieldMaterial::enclose(const ParamBox& box, const Box3&) const {
+  const auto m = static_cast<std::size_t>(num_materials());
+  const std::size_t k = component_material_.size();
+  const TensorSpline piece = detail::restricted_piece(field_, map_(box));
+  const ParamBox whole{{piece.lo(0), piece.lo(1), piece.lo(2)}, {piece.hi(0), piece.hi(1), piece.hi(2)}};
+  std::array<double, kMaxMaterials> clo{}, chi{}, weights{};
+  detail::coefficient_bounds(piece, whole, clo, chi);
+  FractionEnclosure e;
+  e.fractions.assign(m, Interval::point(0.0));
+  for (std::size_t c = 0; c < k; ++c) {
+    const int j = component_material_[c];
+    if (j == kVoidMaterial) continue;
+    e.fractions[static_cast<std::size_t>(j)] = {clo[c], chi[c]};
+    weights[c] = 1.0;
+  }
+  detail::coefficient_sum_bounds(piece, whole, std::span<const double>(weights.data(), k), e.sum.lo, e.sum.hi);
+  // De Boor's evaluation in double stays within the hull but for its rounding.
+  for (Interval& f : e.fractions) f = {f.lo - std::abs(f.lo) * 1e-12, f.hi + std::abs(f.hi) * 1e-12};
+  e.sum = {e.sum.lo - std::abs(e.sum.lo) * 1e-12 - 1e-300, e.sum.hi + std::abs(e.sum.hi) * 1e-12 + 1e-300};
+  return e;
+}
+
 }  // namespace trivox

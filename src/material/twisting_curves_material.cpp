@@ -110,4 +110,11 @@ void TwistingCurvesMaterial::bounds(const ParamBox&, std::span<float> lo, std::s
   if (params_.background != kVoidMaterial) hi[static_cast<std::size_t>(params_.background)] = 1.0f;
 }
 
+FractionEnclosure TwistingCurvesMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
+  FractionEnclosure e = MaterialFunction::enclose(box, xyz);
+  e.sum = {0.0, 0.0};
+  for (const Interval& f : e.fractions) e.sum.hi = std::max(e.sum.hi, f.hi);
+  return e;
+}
+
 }  // namespace trivox

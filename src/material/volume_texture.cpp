@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
+#include "material/enclosure_util.h"
 #include "trivox/error.h"
 
 namespace trivox {
@@ -99,6 +101,36 @@ TextureMaterial::TextureMaterial(VolumeTexture texture, std::vector<int> channel
       if (channel_materials_[k] == j)
         throw Error(fmt::format("texture channels {} and {} name the same material", k, c));
   }
+  // The hull of the samples, for enclose(): every filtered value is a convex combination.
+  const VolumeImage& im = texture_.image();
+  channel_range_.assign(channel_materials_.size(),
+                        Interval{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()});
+  sum_range_ = channel_range_.front();
+  const std::size_t samples =
+      static_cast<std::size_t>(im.nx) * static_cast<std::size_t>(im.ny) * static_cast<std::size_t>(im.nz);
+  const auto stride = static_cast<std::size_t>(channels);
+  for (std::size_t i = 0; i < samples; ++i) {
+    double sum = 0.0;
+    for (std::size_t c = 0; c < channel_materials_.size(); ++c) {
+      const double v = im.values[i * stride + c];
+      channel_range_[c] = {std::min(channel_range_[c].lo, v), std::max(channel_range_[c].hi, v)};
+      if (channel_materials_[c] != kVoidMaterial) sum += v;
+    }
+    sum_range_ = {std::min(sum_range_.lo, sum), std::max(sum_range_.hi, sum)};
+  }
+}
+
+FractionEnclosure TextureMaterial::enclose(const ParamBox&, const Box3&) const {
+  FractionEnclosure e;
+  e.fractions.assign(static_cast<std::size_t>(num_materials()), Interval::point(0.0));
+  for (std::size_t c = 0; c < channel_materials_.size(); ++c)
+    if (channel_materials_[c] != kVoidMaterial)
+      e.fractions[static_cast<std::size_t>(channel_materials_[c])] = channel_range_[c];
+  e.sum = sum_range_;
+  e.finite = std::isfinite(sum_range_.lo) && std::isfinite(sum_range_.hi);
+  for (const Interval& f : e.fractions) e.finite = e.finite && std::isfinite(f.lo) && std::isfinite(f.hi);
+  // Filtering blends in float.
+  return detail::as_floats(e);
 }
 
 void TextureMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3>, std::span<float> fractions) const {

@@ -44,21 +44,32 @@ std::span<const int> SlicedMesh::near(double z) const {
 }
 
 bool SlicedMesh::cut_triangle(int t, double z, Segment2& s) const {
+  int direction;
+  return cut_triangle(t, z, s, direction);
+}
+
+bool SlicedMesh::cut_triangle(int t, double z, Segment2& s, int& direction) const {
   const Triangle& tri = triangles_[static_cast<std::size_t>(t)];
   Vec3 pts[2];
-  int found = 0;
+  int found = 0, rising_at = 1;
   for (int e = 0; e < 3; ++e) {
     int ia = tri[static_cast<std::size_t>(e)], ib = tri[static_cast<std::size_t>((e + 1) % 3)];
+    // Rising: from below the plane to at or above it, in the triangle's own vertex order.
+    const bool rising = vertices_[static_cast<std::size_t>(ib)].z >= z;
     if (ia > ib) std::swap(ia, ib);  // fixed order: shared edges cut identically
     const Vec3& a = vertices_[static_cast<std::size_t>(ia)];
     const Vec3& b = vertices_[static_cast<std::size_t>(ib)];
     if ((a.z >= z) == (b.z >= z)) continue;
     const double u = (z - a.z) / (b.z - a.z);
-    if (found < 2) pts[found] = a + u * (b - a);
+    if (found < 2) {
+      pts[found] = a + u * (b - a);
+      if (rising) rising_at = found;
+    }
     ++found;
   }
   if (found != 2) return false;
   s = {pts[0].x, pts[0].y, pts[1].x, pts[1].y};
+  direction = rising_at == 0 ? 1 : -1;
   return true;
 }
 
@@ -67,6 +78,18 @@ void SlicedMesh::cut(double z, std::vector<Segment2>& out) const {
   Segment2 s;
   for (int t : near(z))
     if (cut_triangle(t, z, s)) out.push_back(s);
+}
+
+void SlicedMesh::cut(double z, std::vector<Segment2>& out, std::vector<int>& directions) const {
+  out.clear();
+  directions.clear();
+  Segment2 s;
+  int direction;
+  for (int t : near(z))
+    if (cut_triangle(t, z, s, direction)) {
+      out.push_back(s);
+      directions.push_back(direction);
+    }
 }
 
 void SlicedMesh::slab(double z0, double z1, std::vector<std::array<Vec3, 3>>& out) const {

@@ -9,6 +9,7 @@
 #include "output/nearest_resample.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
+#include "trivox/output/display_colours.h"
 #include "trivox/output/png_io.h"
 
 namespace trivox::detail {
@@ -20,7 +21,8 @@ class LayerPreviewWriter final : public LayerWriter {
   LayerPreviewWriter(OutputContext c, std::vector<std::pair<int, int>> layers)
       : c_(std::move(c)), layers_(std::move(layers)) {
     palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
-    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2]});
+    // Display colours: a material whose colour is nearly another's shows in a distinct one.
+    for (const Rgb& m : display_colours(c_.material_rgba, c_.background_rgba)) palette_.push_back(m);
     std::sort(layers_.begin(), layers_.end());
     std::error_code ec;
     std::filesystem::create_directories(c_.dir / "preview", ec);

@@ -153,20 +153,22 @@ std::unique_ptr<LayerWriter> make_bitmaps_writer(const OutputContext& context) {
 struct LayerWriterFormat {
   std::string_view name;
   std::unique_ptr<LayerWriter> (*make)(const OutputContext&);
-  bool names_files_by_material = false;
+  bool stack;                            // what its writers' needs_whole_stack() says
+  bool names_files_by_material = false;  // bitmaps and legacy name their files after the materials
 };
 constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"voxelprint",
-     [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); }},
-    {"bitmaps", make_bitmaps_writer, true},
-    {"legacy", detail::make_legacy_bitmap_writer, true},
-    {"tiff", detail::make_tiff_stack_writer},
-    {"vdb", detail::make_vdb_writer},
-    {"gcvf", detail::make_gcvf_writer},
-    {"greyscale", detail::make_greyscale_stack_writer},
-    {"sl1", detail::make_sl1_writer},
-    {"sl1s", detail::make_sl1s_writer},
-    {"preview", detail::make_preview_writer},
+     [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); },
+     false},
+    {"bitmaps", make_bitmaps_writer, false, true},
+    {"legacy", detail::make_legacy_bitmap_writer, false, true},
+    {"tiff", detail::make_tiff_stack_writer, true},
+    {"vdb", detail::make_vdb_writer, true},
+    {"gcvf", detail::make_gcvf_writer, true},
+    {"greyscale", detail::make_greyscale_stack_writer, false},
+    {"sl1", detail::make_sl1_writer, true},
+    {"sl1s", detail::make_sl1s_writer, true},
+    {"preview", detail::make_preview_writer, true},
 };
 
 }  // namespace
@@ -174,6 +176,12 @@ constexpr LayerWriterFormat kLayerWriterFormats[] = {
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context) {
   for (const LayerWriterFormat& f : kLayerWriterFormats)
     if (f.name == format) return f.make(context);
+  throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
+}
+
+bool is_stack_format(std::string_view format) {
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.stack;
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
 }
 

@@ -17,6 +17,7 @@
 #include "output/nearest_resample.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
+#include "trivox/output/display_colours.h"
 #include "trivox/output/png_io.h"
 
 namespace trivox::detail {
@@ -31,7 +32,8 @@ class PreviewWriter final : public LayerWriter {
  public:
   explicit PreviewWriter(OutputContext c) : c_(std::move(c)) {
     palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
-    for (const auto& m : c_.material_rgba) palette_.push_back({m[0], m[1], m[2]});
+    // Display colours: a material whose colour is nearly another's shows in a distinct one.
+    for (const Rgb& m : display_colours(c_.material_rgba, c_.background_rgba)) palette_.push_back(m);
     grid_index_ = static_cast<std::uint8_t>(palette_.size());
     palette_.push_back({kGridGray, kGridGray, kGridGray});
     const int n = std::max(1, c_.model_layers);

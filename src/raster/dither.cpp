@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <vector>
 
 #include "raster/dither_kernels.h"
@@ -134,9 +135,11 @@ InsideSpan inside_span(const std::uint8_t* mask, int width) noexcept {
 // Logical row y is image row image_row(y) (see detail::ScanOrientation).
 // kComponents is m + 1 when it is known at compile time (scenes with one to eight
 // materials: the per-component loops then unroll), or 0 for any other count.
+// With `tie_break`, the choice at each pixel takes layer `layer`'s tie-break bonus
+// (detail::tie_break).
 template <class Kernel, std::size_t kComponents>
 void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
-                 detail::ScanOrientation orientation, LabelImage& labels) {
+                 detail::ScanOrientation orientation, bool tie_break, int layer, LabelImage& labels) {
   constexpr auto& taps = Kernel::kTaps;
   constexpr int kNumTaps = static_cast<int>(taps.size());
   constexpr int kRows = Kernel::kRows;
@@ -148,6 +151,9 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
   const std::size_t row_values = static_cast<std::size_t>(width) * num_components;
   std::vector<std::int32_t> error(static_cast<std::size_t>(kRows) * row_values, 0);
 
+  // With the tie-break: per column, the rows since the part started there (read only where
+  // the row before is inside, so only inside pixels need to write it).
+  std::vector<std::uint8_t> run(tie_break ? static_cast<std::size_t>(width) : 0, 0);
   auto image_row = [&](int y) { return orientation.bottom_up ? height - 1 - y : y; };
   for (int y = 0; y < height; ++y) {
     const bool reverse = (serpentine && (y % 2 == 1)) != orientation.first_row_reversed;
@@ -160,6 +166,8 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
     }
     const float* fraction_row = fractions.row(image_row(y)).data();
     std::uint8_t* label_row = labels.row(image_row(y)).data();
+    const std::uint32_t row_seed = tie_break ? detail::tie_break_row_seed(layer, image_row(y)) : 0;
+    const std::uint8_t* above = y > 0 ? inside.row(image_row(y - 1)).data() : nullptr;
 
     // Only the columns from the row's first inside pixel to its last can hold a label or
     // receive error (every receiver is an inside pixel), so the rest of the row is void.
@@ -184,15 +192,27 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
       }
       e[0] = slot[0] + (kDitherFixedOne - material_total);
 
+      // With layer variation one component gets its tie-break bonus, for the choice only.
+      detail::TieBreak tb{0, 0};
+      if (tie_break) {
+        const int depth = above != nullptr && above[x] != 0 ? std::min(run[static_cast<std::size_t>(x)] + 1, 255) : 0;
+        run[static_cast<std::size_t>(x)] = static_cast<std::uint8_t>(depth);
+        tb = detail::tie_break(row_seed, x, static_cast<std::uint32_t>(num_components), depth);
+      }
       // The largest component wins, ties to the lowest label. Branch-free on purpose (masks,
       // not conditionals the compiler may turn back into jumps): which component wins is
-      // data-dependent noise, the worst case for a branch predictor.
+      // data-dependent noise, the worst case for a branch predictor. The bonus is added by a
+      // mask too, so that e stays in registers.
+      const auto bonus_of = [&](std::size_t c) {
+        return tb.bonus & -static_cast<std::int32_t>(static_cast<std::uint32_t>(c) == tb.component);
+      };
       std::int32_t best = 0;
-      std::int32_t best_value = e[0];
+      std::int32_t best_value = e[0] + bonus_of(0);
       for (std::size_t c = 1; c < num_components; ++c) {
-        const std::int32_t larger = -static_cast<std::int32_t>(e[c] > best_value);
+        const std::int32_t value = e[c] + bonus_of(c);
+        const std::int32_t larger = -static_cast<std::int32_t>(value > best_value);
         best = (best & ~larger) | (static_cast<std::int32_t>(c) & larger);
-        best_value = std::max(best_value, e[c]);
+        best_value = std::max(best_value, value);
       }
       label_row[x] = static_cast<std::uint8_t>(best);
       // Now the error to diffuse.
@@ -301,17 +321,21 @@ std::uint8_t nearest_pure_label(std::span<const float> f) noexcept {
 // materials (a J850 takes 7, plus support), the general loop beyond.
 template <class Kernel>
 void dither_with_components(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
-                            detail::ScanOrientation orientation, LabelImage& labels) {
+                            detail::ScanOrientation orientation, bool tie_break, int layer, LabelImage& labels) {
+  const auto run = [&](auto components) {
+    dither_with<Kernel, decltype(components)::value>(fractions, inside, serpentine, orientation, tie_break, layer,
+                                                     labels);
+  };
   switch (fractions.num_materials()) {
-    case 1: return dither_with<Kernel, 2>(fractions, inside, serpentine, orientation, labels);
-    case 2: return dither_with<Kernel, 3>(fractions, inside, serpentine, orientation, labels);
-    case 3: return dither_with<Kernel, 4>(fractions, inside, serpentine, orientation, labels);
-    case 4: return dither_with<Kernel, 5>(fractions, inside, serpentine, orientation, labels);
-    case 5: return dither_with<Kernel, 6>(fractions, inside, serpentine, orientation, labels);
-    case 6: return dither_with<Kernel, 7>(fractions, inside, serpentine, orientation, labels);
-    case 7: return dither_with<Kernel, 8>(fractions, inside, serpentine, orientation, labels);
-    case 8: return dither_with<Kernel, 9>(fractions, inside, serpentine, orientation, labels);
-    default: return dither_with<Kernel, 0>(fractions, inside, serpentine, orientation, labels);
+    case 1: return run(std::integral_constant<std::size_t, 2>{});
+    case 2: return run(std::integral_constant<std::size_t, 3>{});
+    case 3: return run(std::integral_constant<std::size_t, 4>{});
+    case 4: return run(std::integral_constant<std::size_t, 5>{});
+    case 5: return run(std::integral_constant<std::size_t, 6>{});
+    case 6: return run(std::integral_constant<std::size_t, 7>{});
+    case 7: return run(std::integral_constant<std::size_t, 8>{});
+    case 8: return run(std::integral_constant<std::size_t, 9>{});
+    default: return run(std::integral_constant<std::size_t, 0>{});
   }
 }
 
@@ -322,16 +346,19 @@ void dither_core(const MaterialGrid& fractions, const InsideMask& inside, const 
     return;
   }
   const detail::ScanOrientation orientation = detail::scan_orientation(layer, params.vary_by_layer);
+  const bool tie_break = params.vary_by_layer;
   switch (params.kernel) {
     case DiffusionKernel::kFloydSteinberg:
-      dither_with_components<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation, labels);
+      dither_with_components<detail::FloydSteinbergKernel>(fractions, inside, params.serpentine, orientation, tie_break,
+                                                           layer, labels);
       return;
     case DiffusionKernel::kJarvisJudiceNinke:
       dither_with_components<detail::JarvisJudiceNinkeKernel>(fractions, inside, params.serpentine, orientation,
-                                                              labels);
+                                                              tie_break, layer, labels);
       return;
     case DiffusionKernel::kStucki:
-      dither_with_components<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, labels);
+      dither_with_components<detail::StuckiKernel>(fractions, inside, params.serpentine, orientation, tie_break, layer,
+                                                   labels);
       return;
   }
 }

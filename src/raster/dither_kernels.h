@@ -108,6 +108,52 @@ inline ScanOrientation scan_orientation(int layer, bool vary_by_layer) noexcept 
   return {(l & 1u) != 0, ((l + l / 2) & 1u) != 0};
 }
 
+// Layer variation's tie-break: with variation, error diffusion adds at every pixel a small
+// bonus to one component, both chosen by a hash of (layer, image row, column), before it picks
+// the largest component; the error it diffuses is that of the unperturbed desire, so the
+// material is conserved exactly as without it. Only choices within the bonus of a tie can
+// change, so a pure material never flips (its margin is a whole unit) and a mix is as exact
+// as before. But a choice that changes changes the pattern after it, so layers whose scans
+// are mirror images of each other (a part symmetric about its middle row or column) or the
+// same (layers four apart) no longer repeat a row or a column: the scan orientations alone
+// leave the middle row of a symmetric part identical in pairs of layers, a streak plane.
+// The first rows after the part starts in a column (in scan order) are regular (their errors
+// take few values, none near a tie), so there the bonus is larger. The hash depends on the
+// layer and the image position only, never on the scan or the schedule.
+inline constexpr std::int32_t kTieBreakBonusMax = kDitherFixedOne / 128;
+inline constexpr std::int32_t kStartBonusMax = kDitherFixedOne / 4;
+inline constexpr int kStartRows = 16;  // rows of a column from where the part starts in the scan
+
+// A 32-bit integer hash with good avalanche (two multiply-xorshift rounds).
+inline std::uint32_t mix32(std::uint32_t h) noexcept {
+  h ^= h >> 16;
+  h *= 0x7feb352du;
+  h ^= h >> 15;
+  h *= 0x846ca68bu;
+  h ^= h >> 16;
+  return h;
+}
+inline std::uint32_t tie_break_row_seed(int layer, int image_row) noexcept {
+  return mix32(mix32(static_cast<std::uint32_t>(layer) * 0x9e3779b9u + 0x632be5abu) ^
+               (static_cast<std::uint32_t>(image_row) * 0x85ebca6bu));
+}
+struct TieBreak {
+  std::uint32_t component;  // in [0, components)
+  std::int32_t bonus;       // in [0, the bonus's maximum)
+};
+// `depth`: the pixel's rows since the part started in its column, in scan order (0 on the
+// row where it starts). One multiply-xorshift round of the row's seed and the column is
+// enough to decorrelate neighbouring pixels; the row seed is fully mixed.
+inline TieBreak tie_break(std::uint32_t row_seed, int col, std::uint32_t components, int depth) noexcept {
+  static_assert(kStartBonusMax == kDitherFixedOne >> 2 && kTieBreakBonusMax == kDitherFixedOne >> 7,
+                "the bonus is the hash's low 16 bits shifted");
+  std::uint32_t n = row_seed + static_cast<std::uint32_t>(col) * 0x9e3779b9u;
+  n ^= n >> 16;
+  n *= 0x7feb352du;
+  n ^= n >> 15;
+  return {((n >> 16) * components) >> 16, static_cast<std::int32_t>((n & 0xffffu) >> (depth < kStartRows ? 2 : 9))};
+}
+
 // The blue-noise tile's offset for a layer: pixel (x, y) reads tile cell
 // ((x + dx) mod 64, (y + dy) mod 64). Odd multipliers walk all 64 offsets along each axis
 // before repeating, and consecutive layers land far apart.

@@ -277,8 +277,13 @@ bool is_constructed_geometry(const JsonView& node) {
   return false;
 }
 
-bool construction_allows_fold(const JsonView& geometry) {
-  if (!geometry.is_object() || !is_constructed_geometry(geometry) || geometry.json().size() != 1) return false;
+bool geometry_allows_fold(const JsonView& geometry) {
+  if (!geometry.is_object()) return false;
+  if (geometry.find("file")) {
+    const auto allow = geometry.find("allow_fold");
+    return allow && allow->boolean();
+  }
+  if (!is_constructed_geometry(geometry) || geometry.json().size() != 1) return false;
   const auto allow = geometry.members().front().second.find("allow_fold");
   return allow && allow->boolean();
 }

@@ -15,6 +15,7 @@
 #include "scene/json_view.h"
 #include "trivox/construct/report.h"
 #include "trivox/io/model.h"
+#include "trivox/io/triangle_mesh.h"
 #include "trivox/io/volume_image.h"
 #include "trivox/material/material_function.h"
 #include "trivox/material/scalar_gradient_material.h"
@@ -39,6 +40,11 @@ class SceneContext {
   void set_stop(const std::atomic<bool>* stop) noexcept { stop_ = stop; }
   const std::atomic<bool>* stop() const noexcept { return stop_; }
 
+  // The finest pitch of the scene's printer (mm): the scale at which a mesh trim must not
+  // intersect itself.
+  void set_pixel_mm(double pixel_mm) noexcept { pixel_mm_ = pixel_mm; }
+  double pixel_mm() const noexcept { return pixel_mm_; }
+
   void set_material_names(std::vector<std::string> names) { material_names_ = std::move(names); }
   const std::vector<std::string>& material_names() const noexcept { return material_names_; }
   int num_materials() const noexcept { return static_cast<int>(material_names_.size()); }
@@ -50,7 +56,10 @@ class SceneContext {
 
   // The model file a string field names, relative to the scene's folder; read once per scene.
   const Model& model(const JsonView& file_field);
-  // The files model() read, with their SHA-256, in first-use order.
+  // The triangle mesh file a string field names (trivox/io/triangle_mesh.h), relative to the
+  // scene's folder; read once per scene and hashed like a model file.
+  const TriangleMeshFile& triangle_mesh(const JsonView& file_field);
+  // The files model() and triangle_mesh() read, with their SHA-256, in first-use order.
   const std::vector<SceneInputFile>& input_files() const noexcept { return input_files_; }
 
   // A file a string field names, relative to the scene's folder (normalised); fails naming
@@ -65,7 +74,9 @@ class SceneContext {
   std::filesystem::path base_dir_;
   const std::atomic<bool>* stop_ = nullptr;
   std::vector<std::string> material_names_;
+  double pixel_mm_ = 0;
   std::map<std::string, Model> models_;                               // by resolved path
+  std::map<std::string, TriangleMeshFile> meshes_;                    // by resolved path
   std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text
   std::vector<SceneInputFile> input_files_;
 };
@@ -88,9 +99,10 @@ TensorSpline parse_curve_or_surface(const JsonView& node, SceneContext& ctx, int
 // True when a geometry object names a constructor ("extrude", "ruled", "revolve", "sweep",
 // "coons", "shell"; docs/SCENE.md, "Constructed geometry").
 bool is_constructed_geometry(const JsonView& node);
-// True when `geometry` is a constructor with "allow_fold": true (the user accepts a volume
-// that folds over itself).
-bool construction_allows_fold(const JsonView& geometry);
+// True when `geometry` says "allow_fold": true, as a constructor's field or beside a model
+// file's "file" and "patch": the user accepts a volume that folds over itself, sliced by the
+// fold rules (docs/SCENE.md, "Folded cells").
+bool geometry_allows_fold(const JsonView& geometry);
 // The volume a constructor builds, with its report; fails naming the field when an input is
 // wrong (a fold is in the report, not an error).
 Constructed parse_construction(const JsonView& node, SceneContext& ctx);
@@ -110,6 +122,14 @@ TensorSpline parse_and_apply_placement(const JsonView& node, const TensorSpline&
 std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx);
 // The index of the scene volume a string field names; fails listing the names otherwise.
 int volume_ref(const JsonView& name, const std::vector<SceneVolume>& volumes);
+// An optional "placement" applied to points (a mesh trim's vertices).
+std::vector<Vec3> parse_and_apply_placement(const JsonView& node, std::vector<Vec3> points);
+
+// A shell given as {"mesh": F, "placement", "inside_rule"} (mesh_trim_parse.cpp): the mesh
+// file read, placed and, for the even-odd rule, checked (trivox/mesh/mesh_check.h). `what`
+// is "model-space" or "parametric" (which a mesh cannot be).
+std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneContext& ctx, std::string_view what);
+
 // A cell's "trim" clauses. `own_volume` is the index of the cell's scene volume (-1: none),
 // which a clause may not name.
 Trim parse_trim(const JsonView& node, SceneContext& ctx, const std::vector<SceneVolume>& volumes, int own_volume);

@@ -302,29 +302,36 @@ void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& sce
 }
 
 // A cell whose Jacobian determinant changes sign folds over itself: some points have
-// several (u,v,w), so the material at a voxel would depend on which preimage the solver
-// meets first. Such a cell is refused when the scene is read (the sampled check of
-// jacobian_check.h; left-handed and degenerate cells are valid), unless a constructor's
-// "allow_fold" accepts it.
-void reject_folded(const Volume& volume, const std::string& cell, const JsonView& geometry) {
+// several (u,v,w), and the slicer must choose among them. Such a cell is refused when the
+// scene is read (the sampled check of jacobian_check.h; left-handed and degenerate cells are
+// valid), unless its geometry says "allow_fold": then it is sliced by the fold rules
+// (docs/SCENE.md, "Folded cells"). Returns whether the cell folds.
+bool check_folds(const Volume& volume, const std::string& cell, const JsonView& geometry) {
   const JacobianReport r = check_jacobian(volume);
-  if (r.classification == JacobianClass::kFolded)
-    geometry.fail(
-        fmt::format("cell '{}' folds over itself: det J takes both signs ({} of {} samples positive, "
-                    "{} negative, det J in [{:g}, {:g}]), so some points have several (u,v,w)",
-                    cell, r.positive, r.positive + r.negative + r.zero, r.negative, r.min_det, r.max_det));
+  if (r.classification != JacobianClass::kFolded) return false;
+  if (detail::geometry_allows_fold(geometry)) return true;
+  std::string where;
+  for (const FoldRegion& f : fold_regions(volume))
+    where += fmt::format("{}u [{:.3g}, {:.3g}] v [{:.3g}, {:.3g}] w [{:.3g}, {:.3g}]", where.empty() ? "" : "; ",
+                         f.box.lo.x, f.box.hi.x, f.box.lo.y, f.box.hi.y, f.box.lo.z, f.box.hi.z);
+  geometry.fail(
+      fmt::format("cell '{}' folds over itself: det J takes both signs ({} of {} samples positive, {} negative, det "
+                  "J in [{:g}, {:g}]; the minority sign in {}), so some points have several (u,v,w); set "
+                  "\"allow_fold\": true in its geometry to slice it by the fold rules",
+                  cell, r.positive, r.positive + r.negative + r.zero, r.negative, r.min_det, r.max_det, where));
 }
 
 void add_cell(Scene& scene, detail::SceneContext& ctx, const JsonView& entry, const JsonView& name_field,
-              std::string name, Volume volume, const JsonView& material, int scene_volume, Trim trim) {
+              std::string name, Volume volume, const JsonView& material, int scene_volume, Trim trim, bool folds) {
   for (const Cell& other : scene.cells)
     if (other.name == name)
       name_field.fail(fmt::format("the cell name {} is taken by {} already", shown_name(name, '"'), other.pointer));
   auto raw = detail::parse_material(material, ctx, volume.domain());
   MaterialSite site{scene.source, material.pointer(), name, ctx.material_names()};
   auto checked = std::make_shared<CheckedMaterial>(std::move(raw), scene.fraction_policy, std::move(site));
-  scene.cells.push_back(
-      Cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume, std::move(trim)});
+  Cell cell{std::move(name), entry.pointer(), std::move(volume), std::move(checked), scene_volume, std::move(trim)};
+  cell.folds = folds;
+  scene.cells.push_back(std::move(cell));
 }
 
 void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
@@ -347,18 +354,19 @@ void parse_cells(const JsonView& node, detail::SceneContext& ctx, Scene& scene) 
       const int index = detail::volume_ref(*named, scene.volumes);
       Trim trim;
       if (const auto t = c.find("trim")) trim = detail::parse_trim(*t, ctx, scene.volumes, index);
-      add_cell(scene, ctx, c, name_field, base_name, scene.volumes[static_cast<std::size_t>(index)].volume, material,
-               index, std::move(trim));
+      const SceneVolume& named_volume = scene.volumes[static_cast<std::size_t>(index)];
+      add_cell(scene, ctx, c, name_field, base_name, named_volume.volume, material, index, std::move(trim),
+               named_volume.folds);
       continue;
     }
     const std::optional<JsonView> placement = c.find("placement");
     for (detail::GeometryPart& part : detail::parse_geometry(c.at("geometry"), ctx)) {
       Volume volume = placement ? detail::parse_and_apply_placement(*placement, part.volume) : std::move(part.volume);
       std::string name = part.label.empty() ? base_name : base_name + "/" + part.label;
-      if (!detail::construction_allows_fold(c.at("geometry"))) reject_folded(volume, name, c.at("geometry"));
+      const bool folds = check_folds(volume, name, c.at("geometry"));
       Trim trim;
       if (const auto t = c.find("trim")) trim = detail::parse_trim(*t, ctx, scene.volumes, -1);
-      add_cell(scene, ctx, c, name_field, std::move(name), std::move(volume), material, -1, std::move(trim));
+      add_cell(scene, ctx, c, name_field, std::move(name), std::move(volume), material, -1, std::move(trim), folds);
     }
   }
 }
@@ -424,7 +432,8 @@ void parse_union(const JsonView& u, detail::SceneContext& ctx, Scene& scene) {
       for (std::size_t k = 0; k < names.size(); ++k) cell_name += (k ? "+" : "") + names[k];
     }
     add_cell(scene, ctx, e, e.find("name") ? e.at("name") : e, std::move(cell_name),
-             scene.volumes[static_cast<std::size_t>(param)].volume, e.at("material"), param, std::move(trim));
+             scene.volumes[static_cast<std::size_t>(param)].volume, e.at("material"), param, std::move(trim),
+             scene.volumes[static_cast<std::size_t>(param)].folds);
   }
   for (unsigned mask = 1; mask < seen.size(); ++mask)
     if (seen[mask] < 0) {
@@ -438,6 +447,30 @@ void parse_union(const JsonView& u, detail::SceneContext& ctx, Scene& scene) {
                       "the union's volumes needs one (a region may have the material \"void\")",
                       set));
     }
+}
+
+// The scene's fingerprints (Scene::settings_fingerprint, Cell::fingerprint), from the parsed
+// JSON, canonical: the scene keeps its keys in file order, so the parts are dumped with their
+// keys sorted (nlohmann::json's objects), and whitespace, key order and the spelling of a
+// number in the file do not matter.
+std::string canonical(const Json& part) { return nlohmann::json::parse(part.dump()).dump(); }
+
+void fingerprint(const Json& root, Scene& scene) {
+  Json settings = root;
+  for (const char* key : {"cells", "unions", "volumes", "description", "$schema", "fraction_sums"}) settings.erase(key);
+  scene.settings_fingerprint = sha256_hex(canonical(settings));
+  const auto at = [&](const std::string& pointer) { return canonical(root.at(Json::json_pointer(pointer))); };
+  for (Cell& cell : scene.cells) {
+    std::string text = fmt::format("{}\n{}", cell.name, at(cell.pointer));
+    if (cell.scene_volume >= 0)
+      text += fmt::format("\nvolume {}", at(scene.volumes[static_cast<std::size_t>(cell.scene_volume)].pointer));
+    for (const TrimClause& k : cell.trim.clauses) {
+      text += fmt::format("\ntrim {} {}", static_cast<int>(k.kind), static_cast<int>(k.side));
+      if (k.kind == TrimKind::kVolume)
+        text += fmt::format(" {}", at(scene.volumes[static_cast<std::size_t>(k.volume)].pointer));
+    }
+    cell.fingerprint = sha256_hex(text);
+  }
 }
 
 }  // namespace
@@ -466,6 +499,8 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
 
   detail::SceneContext ctx(src, source.parent_path());
   ctx.set_stop(stop);
+  ctx.set_pixel_mm(
+      std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
   std::vector<std::string> names;
   for (const MaterialDef& m : scene.materials) names.push_back(m.name);
   ctx.set_material_names(std::move(names));
@@ -478,6 +513,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
     for (const JsonView& u : unions->elements(1)) parse_union(u, ctx, scene);
   if (const auto g = top.find("greyscale")) parse_greyscale(*g, ctx, scene);
   scene.input_files = ctx.input_files();
+  fingerprint(root, scene);
   return scene;
 }
 

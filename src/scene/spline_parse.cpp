@@ -152,7 +152,8 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
     parts.push_back({make_volume(node, parse_inline_spline(node, 3, 3), "the inline volume"), ""});
     return parts;
   }
-  node.expect_object({"file", "patch"});
+  node.expect_object({"file", "patch", "allow_fold"});
+  if (const auto a = node.find("allow_fold")) a->boolean();
   const Model& model = ctx.model(node.at("file"));
   const std::vector<const Patch*> vols = trivariates(model);
   const auto patch = node.find("patch");
@@ -300,6 +301,12 @@ TensorSpline parse_and_apply_placement(const JsonView& node, const TensorSpline&
     p[1] = q.y;
     p[2] = q.z;
   });
+}
+
+std::vector<Vec3> parse_and_apply_placement(const JsonView& node, std::vector<Vec3> points) {
+  const Affine f = parse_placement(node);
+  for (Vec3& p : points) p = f.a * p + f.t;
+  return points;
 }
 
 Volume parse_and_apply_placement(const JsonView& node, const Volume& volume) {

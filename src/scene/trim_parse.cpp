@@ -1,6 +1,7 @@
 // Named volumes and trims of a scene (docs/SCENE.md, "Volumes" and "Trimmed cells"): the
 // clauses of a cell's "trim" and the closed shells they name.
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <limits>
 
@@ -30,15 +31,14 @@ std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx) 
                             parts.size()));
     Volume v = std::move(parts.front().volume);
     if (const auto p = e.find("placement")) v = parse_and_apply_placement(*p, v);
-    if (!construction_allows_fold(e.at("geometry"))) {
-      const JacobianReport r = check_jacobian(v);
-      if (r.classification == JacobianClass::kFolded)
-        e.at("geometry")
-            .fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points "
-                              "have several (u,v,w) and inside or outside of it is ambiguous",
-                              name.string()));
-    }
-    out.push_back(SceneVolume{name.string(), e.pointer(), std::move(v)});
+    const bool folds = check_jacobian(v).classification == JacobianClass::kFolded;
+    if (folds && !geometry_allows_fold(e.at("geometry")))
+      e.at("geometry")
+          .fail(fmt::format("volume '{}' folds over itself: det J takes both signs, so some points have several "
+                            "(u,v,w); set \"allow_fold\": true in its geometry to accept it (a point is then "
+                            "inside when any of them is)",
+                            name.string()));
+    out.push_back(SceneVolume{name.string(), e.pointer(), std::move(v), folds});
   }
   return out;
 }
@@ -58,9 +58,10 @@ namespace {
 // {"file": F} (every surface of a model file) or {"surfaces": [...]} (each inline or
 // {"file", "patch"}), with an optional "placement"; the shell must be closed.
 std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext& ctx, std::string_view what) {
+  if (node.is_object() && node.find("mesh")) return parse_mesh_shell(node, ctx, what);
   if (!node.is_object())
-    node.fail(
-        fmt::format("expected {{\"file\": ...}} or {{\"surfaces\": [...]}}, got {}", JsonView::describe(node.json())));
+    node.fail(fmt::format("expected {{\"file\": ...}}, {{\"surfaces\": [...]}} or {{\"mesh\": ...}}, got {}",
+                          JsonView::describe(node.json())));
   node.expect_object({"file", "surfaces", "placement"});
   auto shell = std::make_shared<TrimShell>();
   const auto file = node.find("file");
@@ -69,6 +70,11 @@ std::shared_ptr<const TrimShell> parse_shell(const JsonView& node, SceneContext&
     node.fail("give the shell's surfaces either as \"file\" or as \"surfaces\"");
   if (file) {
     shell->name = fmt::format("\"{}\"", file->string());
+    std::string ext = std::filesystem::path(file->string()).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (is_triangle_mesh_extension(ext))
+      file->fail(
+          fmt::format("\"{}\" is a triangle mesh: give it as {{\"mesh\": \"{}\"}}", file->string(), file->string()));
     const Model& model = ctx.model(*file);
     if (!model.trimmed_models.empty()) {
       // A trimmed-surface model (IRIT MODEL): its trimmed surfaces, each restricted to its

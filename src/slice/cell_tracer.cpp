@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <climits>
+#include <cmath>
 #include <cstring>
 #include <optional>
 
@@ -22,12 +23,20 @@ inline bool four_solved_before(const std::uint8_t* ok, std::size_t c) noexcept {
 
 }  // namespace
 
+const Preimage& choose_preimage(const std::vector<Preimage>& preimages) {
+  const Preimage* best = &preimages.front();
+  for (const Preimage& p : preimages)
+    if (std::abs(p.det) > std::abs(best->det)) best = &p;  // strictly: the first of equal ones stays
+  return *best;
+}
+
 CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px,
-                       int rows_in_flight)
+                       int rows_in_flight, bool folded)
     : volume_(volume),
       solver_(solver),
       params_(params),
-      predicts_(params.tracing == TracingStrategy::kPredict || params.tracing == TracingStrategy::kFlood),
+      predicts_(!folded && (params.tracing == TracingStrategy::kPredict || params.tracing == TracingStrategy::kFlood)),
+      folded_(folded),
       width_(width_px),
       rows_in_flight_(std::max(1, rows_in_flight)),
       ring_(static_cast<std::size_t>(rows_in_flight_) + 1) {
@@ -217,9 +226,9 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
   Seed seeds[kMaxSeeds];
-  int n = neighbour_seeds(r, above, x, seeds);
+  int n = folded_ ? 0 : neighbour_seeds(r, above, x, seeds);
   const double dx = layout_->pitch_x_mm, dy = layout_->pitch_y_mm;
-  if (params_.tracing == TracingStrategy::kFlood && n == 0) {
+  if (params_.tracing == TracingStrategy::kFlood && n == 0 && !folded_) {
     // No neighbour is solved: the nearest solved pixel of the row above (either side), and
     // of this row to the left, as far as kFloodReach pixels away.
     for (int k = 2; k <= kFloodReach; ++k) {
@@ -268,8 +277,7 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
     case GlobalStatus::kUnique:
     case GlobalStatus::kDegenerate: break;
   }
-  // Deterministic choice: the preimages are sorted by (u, v, w).
-  const Vec3 uvw = g.preimages.front().uvw;
+  const Vec3 uvw = choose_preimage(g.preimages).uvw;
   Vec3 unused;
   volume_.evaluate_jacobian(uvw, unused, r.jac[c]);
   keep_jacobian(r, c);

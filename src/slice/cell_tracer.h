@@ -39,13 +39,31 @@ struct TracedRow {
   std::vector<Vec3> xyz;
 };
 
+// The preimage whose material a pixel takes when the global solver finds several (a fold, a
+// seam, a collapsed face): the one of largest |det J|, the lexicographically smallest
+// (u, v, w) among equal ones. `preimages` is not empty and sorted by (u, v, w).
+const Preimage& choose_preimage(const std::vector<Preimage>& preimages);
+
 class CellTracer {
  public:
   // Rows traced at once by default: enough independent evaluations to fill the core.
   static constexpr int kDefaultRowsInFlight = 4;
+  // Bytes a row of the ring holds per column of the bitmap (Row's per-column vectors and its
+  // reserved output), and a traced pixel's bytes in a TracedRow.
+  static constexpr std::size_t kRowBytesPerColumn =
+      sizeof(Vec3) + 1 + sizeof(std::int32_t) + 2 * sizeof(Mat3) + sizeof(int) + 2 * sizeof(Vec3);
+  static constexpr std::size_t kTracedBytesPerPixel = sizeof(int) + 2 * sizeof(Vec3);
+  // What a tracer built with `rows_in_flight` holds for a bitmap `width_px` wide.
+  static constexpr std::uint64_t ring_bytes(int width_px, int rows_in_flight = kDefaultRowsInFlight) {
+    return static_cast<std::uint64_t>(rows_in_flight + 1) * static_cast<std::uint64_t>(width_px) * kRowBytesPerColumn;
+  }
 
+  // `folded`: the volume folds and the scene accepts it (docs/SCENE.md, "Folded cells"): every
+  // candidate is decided by the global solver, which finds all its preimages, and takes the
+  // one choose_preimage picks; no neighbour's solution stands in for it, since a neighbour
+  // may lie on another sheet of the fold.
   CellTracer(const Volume& volume, const GlobalSolver& solver, const SliceParams& params, int width_px,
-             int rows_in_flight = kDefaultRowsInFlight);
+             int rows_in_flight = kDefaultRowsInFlight, bool folded = false);
 
   // Solves the candidate pixels of one layer at height z: every row of `spans` with
   // candidates, rows in increasing order. `on_row(row, traced)` receives each such row once
@@ -129,6 +147,7 @@ class CellTracer {
   const GlobalSolver& solver_;
   const SliceParams& params_;
   bool predicts_;  // the strategy guesses and takes Jacobian steps
+  bool folded_;    // every pixel by the global solver
   int width_;
   int rows_in_flight_;
   double z_mm_ = 0;

@@ -279,8 +279,10 @@ std::int64_t EdgeCoverage::antialias(int layer, GreyImage& grey) const {
             in = traced_inside(clause.trivariate, r, col);
           } else if (clause.kind == TrimKind::kShell) {
             const auto& xs = shell_rows[static_cast<std::size_t>(clause.shell_slot)][static_cast<std::size_t>(r)];
-            in = clause.mesh->gap_tolerant() && xs.size() % 2 == 1 ? clause.mesh->contains(row.xyz[i])
-                                                                   : inside_crossings(xs, F.x_of_col(col));
+            // A mesh trim by the winding-number rule asks the mesh, sub-sample by sub-sample.
+            in = clause.mesh->winding() || (clause.mesh->gap_tolerant() && xs.size() % 2 == 1)
+                     ? clause.mesh->contains(row.xyz[i])
+                     : inside_crossings(xs, F.x_of_col(col));
           } else {
             in = clause.mesh->contains(row.uvw[i]);
           }

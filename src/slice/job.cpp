@@ -12,6 +12,7 @@
 
 #include "job_outputs.h"
 #include "job_parts.h"
+#include "job_resume.h"
 #include "trivox/error.h"
 #include "trivox/io/sha256.h"
 #include "trivox/output/atomic_file.h"
@@ -19,6 +20,7 @@
 #include "trivox/output/material_sheet.h"
 #include "trivox/parallel.h"
 #include "trivox/slice/job_lock.h"
+#include "trivox/slice/printed_extent.h"
 #include "trivox/version.h"
 
 namespace trivox {
@@ -116,6 +118,7 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
   m.total_layers = range.total();
   m.shard_index = params.shard_index;
   m.shard_count = params.shard_count;
+  m.scene_parts = detail::scene_parts(scene, L, range.first, range.count);
   return m;
 }
 
@@ -229,7 +232,8 @@ class JobRun {
  private:
   void slice_one(std::size_t task);
   void slice_and_write(std::size_t task);
-  void record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats);
+  void record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats,
+              const PrintedExtent& printed = {});
   bool stop_requested() const { return cancelled_ || (params_.stop != nullptr && params_.stop->load()); }
   // Records what was completed so that --resume redoes only the rest, once this run has
   // written its manifest (before that, the folder's manifest, if any, is not this run's to
@@ -267,6 +271,7 @@ class JobRun {
   std::atomic<bool> cancelled_{false};  // a layer threw CancelledError
   bool manifest_written_ = false;       // this run has written the manifest
   bool failure_recorded_ = false;
+  std::atomic<bool> failed_{false};  // a layer failed (a bad fraction sum): no new layer starts
   std::chrono::steady_clock::time_point last_manifest_write_ = std::chrono::steady_clock::now();
 };
 
@@ -290,13 +295,16 @@ void JobRun::open_folder() {
   manifest_ = job_manifest(slicer_, params_);
   if (params_.resume && std::filesystem::exists(manifest_path_, ec)) {
     const JobManifest previous = read_manifest(manifest_path_);
-    const std::vector<std::string> diffs = manifest_differences(previous, manifest_);
+    std::vector<ManifestFile> intact = intact_files(params_.output_dir, previous);
+    // A scene corrected since (after a job stopped at a bad sum) is fine if the correction
+    // cannot change the layers kept (manifest.h).
+    const std::vector<std::string> diffs = resume_differences(previous, manifest_, detail::layers_of(intact));
     if (!diffs.empty())
       throw Error(
           fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
                       manifest_path_.string(), fmt::join(diffs, "; ")));
     remove_stale_temporaries(params_.output_dir);
-    manifest_.files = intact_files(params_.output_dir, previous);
+    manifest_.files = std::move(intact);
   }
   const int total = range_.total();
   kept_.assign(static_cast<std::size_t>(total), 0);
@@ -367,12 +375,15 @@ void JobRun::slice_and_write(std::size_t t) {
     if (!refed) record(index, std::move(written), std::nullopt);
     return;
   }
-  LayerResult r = slicer_.slice_layer(range_.first + index);
+  std::optional<LayerResult> sliced = detail::slice_layer_unless_failed(slicer_, range_.first + index, failed_);
+  if (!sliced) return;
+  LayerResult& r = *sliced;
   std::vector<std::string> written = write_layer(index, r.labels, r.grey, refed);
-  if (!refed) record(index, std::move(written), std::move(r.stats));
+  if (!refed) record(index, std::move(written), std::move(r.stats), printed_extent(r.labels, range_.first + index));
 }
 
-void JobRun::record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats) {
+void JobRun::record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats,
+                    const PrintedExtent& printed) {
   std::vector<ManifestFile> entries;
   for (const std::string& name : written) {
     const FileDigest d = sha256_file(params_.output_dir / name);
@@ -382,6 +393,7 @@ void JobRun::record(int index, std::vector<std::string> written, std::optional<L
   manifest_.files.insert(manifest_.files.end(), entries.begin(), entries.end());
   stats_.files.insert(stats_.files.end(), written.begin(), written.end());
   if (layer_stats) stats_.layers.push_back(std::move(*layer_stats));
+  stats_.printed.add(printed);
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_manifest_write_).count() >= params_.manifest_interval_seconds) {
     manifest_.sort_files();
@@ -424,7 +436,7 @@ void JobRun::slice_layers() {
   // One layer per task: layers are independent, so any schedule gives the same files.
   parallel_for_each(
       pending_.size() + refeed_.size(), stats_.threads, [this](std::size_t t) { slice_one(t); },
-      [this] { return stop_requested(); });
+      [this] { return stop_requested() || failed_.load(); });
   manifest_.sort_files();
   std::sort(stats_.files.begin(), stats_.files.end());
   std::sort(stats_.layers.begin(), stats_.layers.end(),

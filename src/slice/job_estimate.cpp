@@ -34,13 +34,38 @@ std::uint64_t resident_bytes() {
 // What one worker holds while it slices and writes a layer: the material fractions (float
 // per material per pixel), the inside mask and the labels (a byte per pixel each), the
 // dithering's working copy of the fractions, and the largest encoder buffer (RGBA: 4 bytes
-// per pixel).
+// per pixel); the tracing's own share comes from Slicer::tracing_bytes_per_worker.
 std::uint64_t worker_bytes(std::uint64_t pixels, int materials) {
   return pixels * (2u * 4u * static_cast<std::uint64_t>(materials) + 1u + 1u + 4u);
 }
 
 // Bytes of the manifest's line for one file (name, size and a 64-digit hash).
 constexpr std::uint64_t kManifestBytesPerFile = 140;
+
+// stats.json as the job will write it: one entry per model layer of this shard (its figures
+// those of a sample layer, in turn), written by the job's own writer and measured. Its size
+// grows with the layers, the materials and the cells (a few hundred bytes a layer), which on
+// a tall job of small layers is a good part of the output.
+std::uint64_t stats_json_bytes(const Slicer& slicer, const JobEstimate& e, int first, int shard_model,
+                               const JobParams& params, const std::vector<LayerStats>& samples,
+                               const std::filesystem::path& scratch) {
+  JobStats stats;
+  stats.layout = slicer.layout();
+  stats.padded_layers = e.padded_layers;
+  stats.threads = e.threads;
+  stats.seconds = 1.0;
+  std::size_t next = 0;
+  for (int index = 0; index < e.model_layers && static_cast<int>(stats.layers.size()) < shard_model; ++index) {
+    if (!shard_has_layer(index, params.shard_index, params.shard_count)) continue;
+    LayerStats s = samples[next++ % samples.size()];
+    s.layer = first + index;
+    s.z_mm = slicer.layout().z_of_layer(first + index);
+    stats.layers.push_back(std::move(s));
+  }
+  const std::filesystem::path path = scratch / "stats.json";
+  write_stats_json(path, slicer, stats);
+  return std::filesystem::file_size(path);
+}
 
 }  // namespace
 
@@ -103,7 +128,8 @@ JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const
   e.pixels = static_cast<std::int64_t>(layer_pixels * static_cast<std::uint64_t>(e.job_layers));
   e.threads = worker_count(params.threads);
   e.peak_memory_bytes = resident_bytes() + static_cast<std::uint64_t>(std::min(e.threads, std::max(1, e.job_layers))) *
-                                               worker_bytes(layer_pixels, slicer.scene().num_materials());
+                                               (worker_bytes(layer_pixels, slicer.scene().num_materials()) +
+                                                slicer.tracing_bytes_per_worker());
 
   const int samples = std::min(ep.sample_layers, e.model_layers);
   if (samples <= 0) return e;
@@ -143,11 +169,14 @@ JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const
   StackSampling sampling;
   sampling.model_layers = shard_model;
   sampling.padded_layers = shard_padded;
+  std::vector<LayerStats> sample_stats;
   const auto start = std::chrono::steady_clock::now();
   for (int s = 0; s < samples; ++s) {
     // Evenly spread: the middle of each of `samples` equal parts of the range.
     const int index = static_cast<int>((2 * s + 1) * static_cast<std::int64_t>(e.model_layers) / (2 * samples));
-    sample_bytes += encode(index, slicer.slice_layer(first + index));
+    LayerResult r = slicer.slice_layer(first + index);
+    sample_bytes += encode(index, r);
+    sample_stats.push_back(std::move(r.stats));
     sampling.model_samples.push_back(index);
   }
   const double per_layer = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / samples;
@@ -171,11 +200,12 @@ JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const
     e.stack_memory_bytes += cost.memory_bytes;
   }
   e.peak_memory_bytes += e.stack_memory_bytes;
+  e.stats_bytes = stats_json_bytes(slicer, e, first, shard_model, params, sample_stats, scratch);
   e.sampled_layers = samples;
   const std::uint64_t files = static_cast<std::uint64_t>(e.files_per_layer) * static_cast<std::uint64_t>(e.job_layers) +
                               static_cast<std::uint64_t>(e.whole_job_files);
   e.output_bytes = sample_bytes / static_cast<std::uint64_t>(samples) * static_cast<std::uint64_t>(shard_model) +
-                   padding_bytes * static_cast<std::uint64_t>(shard_padded) + whole_job_bytes +
+                   padding_bytes * static_cast<std::uint64_t>(shard_padded) + whole_job_bytes + e.stats_bytes +
                    kManifestBytesPerFile * files;
   e.seconds = per_layer * std::ceil(static_cast<double>(shard_model) / e.threads);
   return e;

@@ -14,6 +14,7 @@
 #include "trivox/io/sha256.h"
 #include "trivox/output/bmp_image.h"
 #include "trivox/output/gcvf_package.h"
+#include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
 #include "trivox/output/tiff_stack.h"
 #include "trivox/output/vdb_stack.h"
@@ -91,6 +92,22 @@ std::pair<int, int> bitmap_size(const JobManifest& m) {
       if (w && h) return {*w, *h};
     }
   return {0, 0};
+}
+
+// The output formats of the manifest's "formats" setting (comma-separated).
+std::vector<std::string> manifest_formats(const JobManifest& m) {
+  std::vector<std::string> formats;
+  for (const auto& [key, value] : m.settings) {
+    if (key != "formats") continue;
+    std::size_t at = 0;
+    while (at <= value.size()) {
+      std::size_t end = value.find(',', at);
+      if (end == std::string::npos) end = value.size();
+      if (end > at) formats.push_back(value.substr(at, end - at));
+      at = end + 1;
+    }
+  }
+  return formats;
 }
 
 // The number of materials in the manifest's "materials" setting ("NAME=R,G,B,A ..."): the
@@ -268,10 +285,31 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
     if (problem.empty()) problem = decode_problem(dir / f.name, m);
     if (!problem.empty()) report.problems.push_back(std::move(problem));
   }
-  if (m.status == JobStatus::kComplete)
-    for (std::size_t layer = 0; layer < has_files.size(); ++layer)
-      if (!has_files[layer])
-        report.problems.push_back(fmt::format("{}: layer {} has no files", path.string(), layer + 1));
+  if (m.status == JobStatus::kComplete) {
+    // Formats that write files per layer need files in every layer; a stack output holds
+    // every layer in its own file (its page or image count is checked when it is decoded),
+    // which must be listed.
+    bool per_layer = false;
+    for (const std::string& format : manifest_formats(m)) {
+      bool stack = false;
+      try {
+        stack = is_stack_format(format);
+      } catch (const Error&) {
+        report.problems.push_back(fmt::format("{}: unknown output format '{}'", path.string(), format));
+        continue;
+      }
+      per_layer = per_layer || !stack;
+      const std::string folder = format + "/";
+      if (stack && std::none_of(m.files.begin(), m.files.end(), [&](const ManifestFile& f) {
+            return f.layer == 0 && f.name.compare(0, folder.size(), folder) == 0;
+          }))
+        report.problems.push_back(fmt::format("{}: no file of the '{}' output is listed", path.string(), format));
+    }
+    if (per_layer)
+      for (std::size_t layer = 0; layer < has_files.size(); ++layer)
+        if (!has_files[layer])
+          report.problems.push_back(fmt::format("{}: layer {} has no files", path.string(), layer + 1));
+  }
   return report;
 }
 

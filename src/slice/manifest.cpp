@@ -69,6 +69,14 @@ std::string manifest_text(const JobManifest& m) {
   Json settings = Json::object();
   for (const auto& [k, v] : m.settings) settings[k] = v;
   head["settings"] = settings;
+  if (m.scene_parts) {
+    Json cells = Json::array();
+    for (const ManifestCell& c : m.scene_parts->cells)
+      cells.push_back({{"name", c.name}, {"sha256", c.sha256}, {"layers", Json::array({c.first_layer, c.last_layer})}});
+    head["scene_parts"] = {{"settings_sha256", m.scene_parts->settings_sha256},
+                           {"fraction_sums", m.scene_parts->fraction_sums},
+                           {"cells", cells}};
+  }
   head["total_layers"] = m.total_layers;
   head["shard"] = {{"index", m.shard_index}, {"count", m.shard_count}};
   // The head with two-space indents, then one line per file: readable, and small diffs.
@@ -151,6 +159,27 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
     m.settings.emplace_back(k, v.get<std::string>());
   }
   m.total_layers = static_cast<int>(r.integer(doc, "total_layers", "", 1, 100000000));
+  if (doc.contains("scene_parts")) {
+    const Json& parts = r.at(doc, "scene_parts", "");
+    ManifestSceneParts p;
+    p.settings_sha256 = r.str(parts, "settings_sha256", "/scene_parts");
+    p.fraction_sums = r.str(parts, "fraction_sums", "/scene_parts");
+    const Json& cells = r.at(parts, "cells", "/scene_parts");
+    if (!cells.is_array()) r.fail("/scene_parts/cells", "must be an array");
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      const std::string where = fmt::format("/scene_parts/cells/{}", i);
+      ManifestCell c;
+      c.name = r.str(cells[i], "name", where);
+      c.sha256 = r.str(cells[i], "sha256", where);
+      const Json& layers = r.at(cells[i], "layers", where);
+      if (!layers.is_array() || layers.size() != 2 || !layers[0].is_number_integer() || !layers[1].is_number_integer())
+        r.fail(where + "/layers", "must be two integers");
+      c.first_layer = layers[0].get<int>();
+      c.last_layer = layers[1].get<int>();
+      p.cells.push_back(std::move(c));
+    }
+    m.scene_parts = std::move(p);
+  }
   const Json& shard = r.at(doc, "shard", "");
   m.shard_count = static_cast<int>(r.integer(shard, "count", "/shard", 1, 1000000));
   m.shard_index = static_cast<int>(r.integer(shard, "index", "/shard", 1, m.shard_count));
@@ -186,7 +215,9 @@ void write_manifest(const std::filesystem::path& path, const JobManifest& manife
   write_file_atomic(path, manifest_text(manifest));
 }
 
-std::vector<std::string> manifest_differences(const JobManifest& previous, const JobManifest& current) {
+namespace {
+
+std::vector<std::string> differences(const JobManifest& previous, const JobManifest& current, bool skip_scene_hash) {
   std::vector<std::string> out;
   if (previous.tool_version != current.tool_version)
     out.push_back(fmt::format("trivox version was {}, is {}", previous.tool_version, current.tool_version));
@@ -197,6 +228,8 @@ std::vector<std::string> manifest_differences(const JobManifest& previous, const
       out.push_back(fmt::format("the scene now reads {} as well", describe(current.inputs[i])));
     } else if (i >= current.inputs.size()) {
       out.push_back(fmt::format("the scene no longer reads {}", describe(previous.inputs[i])));
+    } else if (skip_scene_hash && previous.inputs[i].role == "scene" && current.inputs[i].role == "scene") {
+      continue;  // judged by its parts
     } else if (previous.inputs[i].sha256 != current.inputs[i].sha256 ||
                previous.inputs[i].role != current.inputs[i].role) {
       out.push_back(fmt::format("{} has changed (SHA-256 was {}, is {})", describe(current.inputs[i]),
@@ -219,6 +252,82 @@ std::vector<std::string> manifest_differences(const JobManifest& previous, const
   }
   if (previous.total_layers != current.total_layers)
     out.push_back(fmt::format("the job had {} layers, now {}", previous.total_layers, current.total_layers));
+  return out;
+}
+
+// Whether the policy `now` accepts every sample `before` accepted, and cleans them alike.
+bool policy_accepts_as_much(const std::string& before, const std::string& now) {
+  if (before == now || now == "normalise") return true;
+  const std::string prefix = "error ";
+  if (before.rfind(prefix, 0) != 0 || now.rfind(prefix, 0) != 0) return false;
+  try {
+    return std::stod(now.substr(prefix.size())) >= std::stod(before.substr(prefix.size()));
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// "3-5, 9" for sorted layer numbers.
+std::string ranges_text(const std::vector<int>& layers) {
+  std::string text;
+  for (std::size_t i = 0; i < layers.size();) {
+    std::size_t j = i;
+    while (j + 1 < layers.size() && layers[j + 1] == layers[j] + 1) ++j;
+    text +=
+        (text.empty() ? "" : ", ") + (j == i ? std::to_string(layers[i]) : fmt::format("{}-{}", layers[i], layers[j]));
+    i = j + 1;
+  }
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> manifest_differences(const JobManifest& previous, const JobManifest& current) {
+  return differences(previous, current, false);
+}
+
+std::vector<std::string> resume_differences(const JobManifest& previous, const JobManifest& current,
+                                            const std::vector<int>& kept) {
+  const auto scene_hash = [](const JobManifest& m) {
+    for (const ManifestInput& in : m.inputs)
+      if (in.role == "scene") return in.sha256;
+    return std::string();
+  };
+  if (scene_hash(previous) == scene_hash(current) || !previous.scene_parts || !current.scene_parts)
+    return differences(previous, current, false);
+  std::vector<std::string> out = differences(previous, current, true);
+  const ManifestSceneParts& was = *previous.scene_parts;
+  const ManifestSceneParts& is = *current.scene_parts;
+  const std::string name =
+      current.inputs.empty() ? std::string("the scene") : "scene \"" + current.inputs[0].name + "\"";
+  if (was.settings_sha256 != is.settings_sha256)
+    out.push_back(fmt::format("{} has changed outside its cells (the printer, the materials or the dithering)", name));
+  if (was.cells.size() != is.cells.size()) {
+    out.push_back(fmt::format("{} had {} cells, now {}", name, was.cells.size(), is.cells.size()));
+    return out;
+  }
+  const bool policy_ok = policy_accepts_as_much(was.fraction_sums, is.fraction_sums);
+  if (!policy_ok)
+    out.push_back(
+        fmt::format("the fraction policy was \"{}\", is \"{}\", which may refuse or change what the completed "
+                    "layers hold",
+                    was.fraction_sums, is.fraction_sums));
+  for (std::size_t c = 0; c < is.cells.size(); ++c) {
+    const ManifestCell& a = was.cells[c];
+    const ManifestCell& b = is.cells[c];
+    if (a.sha256 == b.sha256) continue;
+    std::vector<int> touched;
+    for (int layer : kept) {
+      const bool in_a = a.first_layer > 0 && layer >= a.first_layer && layer <= a.last_layer;
+      const bool in_b = b.first_layer > 0 && layer >= b.first_layer && layer <= b.last_layer;
+      if (in_a || in_b) touched.push_back(layer);
+    }
+    if (!touched.empty())
+      out.push_back(
+          fmt::format("cell '{}' has changed, and it reaches {} of the layers the job completed (layers {}), "
+                      "which the change may alter",
+                      b.name, touched.size(), ranges_text(touched)));
+  }
   return out;
 }
 

@@ -169,6 +169,80 @@ void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayou
   for (auto& r : rows) std::sort(r.begin(), r.end());
 }
 
+void shell_row_windings(const std::vector<Segment2>& segments, const std::vector<int>& directions, const SliceLayout& L,
+                        std::vector<std::vector<double>>& rows, std::vector<std::vector<int>>& windings) {
+  std::vector<std::vector<std::pair<double, int>>> found(static_cast<std::size_t>(L.height_px));
+  for (std::size_t k = 0; k < segments.size(); ++k) {
+    const Segment2& s = segments[k];
+    const auto [r0, r1] = rows_near(L, std::min(s.y0, s.y1), std::max(s.y0, s.y1));
+    double x;
+    for (int r = r0; r <= r1; ++r)
+      if (crosses_row(s, L.y_of_row(r), x))
+        found[static_cast<std::size_t>(r)].push_back({x, crossing_winding(s, directions[k])});
+  }
+  rows.resize(static_cast<std::size_t>(L.height_px));
+  windings.resize(static_cast<std::size_t>(L.height_px));
+  for (std::size_t r = 0; r < found.size(); ++r) {
+    auto& f = found[r];
+    std::sort(f.begin(), f.end());
+    rows[r].resize(f.size());
+    windings[r].assign(f.size() + 1, 0);
+    for (std::size_t i = f.size(); i-- > 0;) {
+      rows[r][i] = f[i].first;
+      windings[r][i] = windings[r][i + 1] + f[i].second;
+    }
+  }
+}
+
+int winding_beyond(const std::vector<double>& xs, const std::vector<int>& windings, double x) noexcept {
+  return windings[static_cast<std::size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin())];
+}
+
+int first_col_at_or_after(const SliceLayout& L, double x) noexcept {
+  if (L.width_px <= 0 || !(x > L.x_of_col(0))) return 0;
+  if (!(x <= L.x_of_col(L.width_px - 1))) return L.width_px;
+  // An estimate, then the centres themselves decide: x_of_col increases with the column.
+  int c = std::clamp(static_cast<int>(std::ceil(L.col_of_x(x))), 1, L.width_px - 1);
+  while (c > 0 && L.x_of_col(c - 1) >= x) --c;
+  while (c < L.width_px && L.x_of_col(c) < x) ++c;
+  return c;
+}
+
+void crossing_runs(const std::vector<double>& xs, const std::vector<int>* windings, bool inside, const SliceLayout& L,
+                   std::vector<std::pair<int, int>>& runs) {
+  runs.clear();
+  // Centres x with xs[i - 1] <= x < xs[i] have i crossings at or left of them (upper_bound)
+  // and xs.size() - i beyond: the same answer all along, from column first_col(xs[i - 1]) to
+  // the column before first_col(xs[i]).
+  const std::size_t n = xs.size();
+  int c0 = 0;
+  for (std::size_t i = 0; i <= n; ++i) {
+    const int c1 = i < n ? first_col_at_or_after(L, xs[i]) : L.width_px;
+    const bool in = windings != nullptr ? (*windings)[i] >= 1 : (n - i) % 2 == 1;
+    if (in == inside && c0 < c1) {
+      if (!runs.empty() && runs.back().second == c0 - 1)
+        runs.back().second = c1 - 1;
+      else
+        runs.push_back({c0, c1 - 1});
+    }
+    c0 = std::max(c0, c1);
+    if (c0 >= L.width_px) break;
+  }
+}
+
+void intersect_row(const std::vector<std::pair<int, int>>& a, const std::vector<std::pair<int, int>>& b,
+                   std::vector<std::pair<int, int>>& out) {
+  out.clear();
+  std::size_t j = 0;
+  for (const auto& [a0, a1] : a) {
+    while (j < b.size() && b[j].second < a0) ++j;
+    for (std::size_t k = j; k < b.size() && b[k].first <= a1; ++k) {
+      const int lo = std::max(a0, b[k].first), hi = std::min(a1, b[k].second);
+      if (lo <= hi) out.push_back({lo, hi});
+    }
+  }
+}
+
 bool inside_crossings(const std::vector<double>& xs, double x) noexcept {
   // Crossings beyond x, as ShellMesh::contains counts them.
   const auto beyond = xs.end() - std::upper_bound(xs.begin(), xs.end(), x);

@@ -39,6 +39,29 @@ void intersect_spans(RowSpans& rows, const RowSpans& mask);
 void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayout& layout,
                          std::vector<std::vector<double>>& rows);
 
+// The same for a shell decided by its winding number (ShellMesh::winding): each row's
+// crossings sorted, and beside them the windings beyond each, windings[r][i] the sum of
+// crossing_winding over crossings i, i + 1, ... of row r (one entry more, 0, past the last).
+void shell_row_windings(const std::vector<Segment2>& segments, const std::vector<int>& directions,
+                        const SliceLayout& layout, std::vector<std::vector<double>>& rows,
+                        std::vector<std::vector<int>>& windings);
+// The winding of a row's crossings beyond abscissa x (the w of ShellMesh::winding_inside).
+int winding_beyond(const std::vector<double>& xs, const std::vector<int>& windings, double x) noexcept;
+
+// The first column whose pixel centre lies at or right of x (width_px when none): exact,
+// by comparing the centres themselves (SliceLayout::x_of_col), as the tests per pixel do.
+int first_col_at_or_after(const SliceLayout& layout, double x) noexcept;
+// The columns of a row where a shell clause holds, as sorted disjoint spans [c0, c1] in
+// `runs`: the pixel centres inside by the row's sorted crossings `xs` (even-odd, or with
+// `windings`, shell_row_windings' windings of the row, winding at least 1), or outside when
+// `inside` is false. Each column's answer is that of inside_crossings (or winding_beyond >=
+// 1) at its centre, decided once per stretch between two crossings instead of per pixel.
+void crossing_runs(const std::vector<double>& xs, const std::vector<int>* windings, bool inside,
+                   const SliceLayout& layout, std::vector<std::pair<int, int>>& runs);
+// The spans of `a` that lie in spans of `b` (both sorted and disjoint), in `out`.
+void intersect_row(const std::vector<std::pair<int, int>>& a, const std::vector<std::pair<int, int>>& b,
+                   std::vector<std::pair<int, int>>& out);
+
 // Whether abscissa x is inside by the even-odd rule over a row's sorted crossings.
 bool inside_crossings(const std::vector<double>& xs, double x) noexcept;
 

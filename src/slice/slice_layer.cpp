@@ -63,6 +63,18 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out, LayerRas
   return result;
 }
 
+bool Slicer::Trivariate::candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
+                                    detail::RowSpans& spans) const {
+  if (fold) {
+    fold->spans(layout, z_mm, band_mm, spans);
+    return std::any_of(spans.begin(), spans.end(), [](const auto& row) { return !row.empty(); });
+  }
+  mesh.cut(z_mm, segments);
+  if (segments.empty()) return false;
+  detail::candidate_spans(segments, layout, band_mm, spans);
+  return true;
+}
+
 // The trivariates that trim some cell are traced once for the whole layer, so every Boolean
 // clause and every cell they parametrize read the same inside set (the cells "A only", "B
 // only", "A and B" then partition the union by construction).
@@ -78,10 +90,9 @@ void Slicer::trace_trimming_volumes(LayerWork& w) const {
     auto& in = w.traced_inside[k];
     rows.resize(static_cast<std::size_t>(L.height_px));
     in.assign(static_cast<std::size_t>(w.stats.pixels_total), 0);
-    tv.mesh.cut(w.stats.z_mm, w.segments);
-    if (w.segments.empty()) continue;
-    detail::candidate_spans(w.segments, L, tv.band_mm, w.spans);
-    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px);
+    if (!tv.candidates(L, w.stats.z_mm, w.segments, w.spans)) continue;
+    detail::CellTracer tracer(*tv.volume, tv.solver, params_, L.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                              tv.fold.has_value());
     tracer.trace_layer(L, w.stats.z_mm, w.spans, [&](int r, const detail::TracedRow& row) {
       rows[static_cast<std::size_t>(r)] = row;
       for (int col : row.cols) in[static_cast<std::size_t>(r) * width + static_cast<std::size_t>(col)] = 1;
@@ -95,10 +106,17 @@ void Slicer::cut_trimming_shells(LayerWork& w) const {
   for (const auto& cd : cells_)
     for (const auto& k : cd->clauses)
       if (k.shell_slot >= 0) {
+        const auto slot = static_cast<std::size_t>(k.shell_slot);
+        if (w.shell_rows.size() <= slot) w.shell_rows.resize(slot + 1);
+        if (k.mesh->winding()) {
+          // A mesh trim by the winding-number rule: the crossings signed (shell_mesh.h).
+          if (w.shell_row_windings.size() <= slot) w.shell_row_windings.resize(slot + 1);
+          k.mesh->mesh().cut(w.stats.z_mm, w.segments, w.directions);
+          detail::shell_row_windings(w.segments, w.directions, layout_, w.shell_rows[slot], w.shell_row_windings[slot]);
+          continue;
+        }
         k.mesh->mesh().cut(w.stats.z_mm, w.segments);
-        if (w.shell_rows.size() <= static_cast<std::size_t>(k.shell_slot))
-          w.shell_rows.resize(static_cast<std::size_t>(k.shell_slot) + 1);
-        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[static_cast<std::size_t>(k.shell_slot)]);
+        detail::shell_row_crossings(w.segments, layout_, w.shell_rows[slot]);
       }
 }
 
@@ -112,11 +130,18 @@ bool Slicer::passes_model_space_clauses(const CellData& cd, int col, int row, co
                            static_cast<std::size_t>(col)] != 0;
     } else if (k.kind == TrimKind::kShell) {
       const auto& xs = w.shell_rows[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
-      // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
-      // times: its pixels are decided by the shell's vote (shell_mesh.h).
-      in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
-               ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
-               : detail::inside_crossings(xs, L.x_of_col(col));
+      if (k.mesh->winding()) {
+        const auto& windings =
+            w.shell_row_windings[static_cast<std::size_t>(k.shell_slot)][static_cast<std::size_t>(row)];
+        const double x = L.x_of_col(col);
+        in = k.mesh->winding_inside(detail::winding_beyond(xs, windings, x), {x, L.y_of_row(row), w.stats.z_mm});
+      } else {
+        // A row through a seam's gap of a trimmed-surface shell is crossed an odd number of
+        // times: its pixels are decided by the shell's vote (shell_mesh.h).
+        in = k.mesh->gap_tolerant() && xs.size() % 2 == 1
+                 ? k.mesh->contains({L.x_of_col(col), L.y_of_row(row), w.stats.z_mm})
+                 : detail::inside_crossings(xs, L.x_of_col(col));
+      }
     } else {
       continue;
     }
@@ -133,20 +158,39 @@ bool Slicer::passes_parametric_clauses(const CellData& cd, Vec3 uvw) {
 
 bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
-  tv.mesh.cut(w.stats.z_mm, w.segments);
-  if (w.segments.empty()) return false;
-  detail::candidate_spans(w.segments, layout_, tv.band_mm, w.spans);
+  if (!tv.candidates(layout_, w.stats.z_mm, w.segments, w.spans)) return false;
   if (cd.model_space_clauses && params_.model_space_narrowing) narrow_to_model_space_clauses(cd, w);
   if (cd.parametric_outlines && params_.parametric_outlines) narrow_to_parametric_outlines(cd, w);
   return true;
 }
 
 // Only pixels that pass the volume and shell clauses are worth inverting: those clauses are
-// decided without this cell's inverse.
+// decided without this cell's inverse. A shell clause whose row its crossings decide alone
+// (not a row through a seam's gap, nor a winding-number mesh with cones) is applied to the
+// row's spans a stretch between crossings at a time; the other clauses pixel by pixel.
 void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) const {
-  std::vector<std::pair<int, int>> kept_spans;
+  std::vector<std::pair<int, int>> kept_spans, runs;
   for (int r = 0; r < layout_.height_px; ++r) {
     auto& row_spans = w.spans[static_cast<std::size_t>(r)];
+    bool per_pixel = false;
+    for (const auto& k : cd.clauses) {
+      if (row_spans.empty()) break;
+      if (k.kind != TrimKind::kShell) {
+        per_pixel = per_pixel || k.kind == TrimKind::kVolume;
+        continue;
+      }
+      const auto slot = static_cast<std::size_t>(k.shell_slot);
+      const auto& xs = w.shell_rows[slot][static_cast<std::size_t>(r)];
+      if ((k.mesh->gap_tolerant() && xs.size() % 2 == 1) || (k.mesh->winding() && k.mesh->cone_count() > 0)) {
+        per_pixel = true;
+        continue;
+      }
+      detail::crossing_runs(xs, k.mesh->winding() ? &w.shell_row_windings[slot][static_cast<std::size_t>(r)] : nullptr,
+                            k.side == TrimSide::kInside, layout_, runs);
+      detail::intersect_row(row_spans, runs, kept_spans);
+      row_spans.swap(kept_spans);
+    }
+    if (!per_pixel || row_spans.empty()) continue;
     kept_spans.clear();
     for (const auto& [c0, c1] : row_spans)
       for (int col = c0; col <= c1; ++col) {
@@ -156,7 +200,7 @@ void Slicer::narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) con
         else
           kept_spans.push_back({col, col});
       }
-    row_spans = kept_spans;
+    row_spans.swap(kept_spans);
   }
 }
 
@@ -197,7 +241,8 @@ void Slicer::slice_cell(int ci, LayerWork& w) const {
     return;
   }
   if (!candidate_pixels(cd, w)) return;
-  detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px);
+  detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px, detail::CellTracer::kDefaultRowsInFlight,
+                            tv.fold.has_value());
   tracer.trace_layer(layout_, w.stats.z_mm, w.spans, paint);
   w.counters += tracer.counters();
 }

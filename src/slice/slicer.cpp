@@ -125,7 +125,9 @@ void Slicer::prepare_cells() {
     auto& t = of_volume.at(static_cast<std::size_t>(v));
     if (t < 0) {
       t = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(std::make_unique<Trivariate>(scene_.volumes[static_cast<std::size_t>(v)].volume));
+      const SceneVolume& sv = scene_.volumes[static_cast<std::size_t>(v)];
+      trivariates_.push_back(std::make_unique<Trivariate>(sv.volume));
+      if (sv.folds) trivariates_.back()->fold.emplace(sv.volume);
     }
     return t;
   };
@@ -138,6 +140,7 @@ void Slicer::prepare_cells() {
     } else {
       cd->trivariate = static_cast<int>(trivariates_.size());
       trivariates_.push_back(std::make_unique<Trivariate>(c.volume));
+      if (c.folds) trivariates_.back()->fold.emplace(c.volume);
     }
     for (const TrimClause& clause : c.trim.clauses) {
       CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1, &clause};
@@ -244,6 +247,14 @@ void Slicer::build_meshes(double finest_pitch_mm) {
       }
     }
   }
+}
+
+std::uint64_t Slicer::tracing_bytes_per_worker() const noexcept {
+  const auto pixels = static_cast<std::uint64_t>(layout_.width_px) * static_cast<std::uint64_t>(layout_.height_px);
+  std::uint64_t bytes = detail::CellTracer::ring_bytes(layout_.width_px);
+  for (const auto& tv : trivariates_)
+    if (tv->traced_first) bytes += pixels * detail::CellTracer::kTracedBytesPerPixel;
+  return bytes;
 }
 
 }  // namespace trivox

@@ -5,10 +5,12 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
 #include "cell_tracer.h"
+#include "fold_candidates.h"
 #include "scanline.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/mesh/sliced_mesh.h"
@@ -29,8 +31,16 @@ struct Slicer::Trivariate {
   // Traced for the whole layer before the cells (it trims some cell), rather than streamed
   // row by row for the one cell it parametrizes.
   bool traced_first = false;
+  // A folded volume the scene accepts (Cell::folds): candidates from its pieces' boxes, every
+  // pixel by the global solver (fold_candidates.h, CellTracer).
+  std::optional<detail::FoldCandidates> fold;
 
   explicit Trivariate(const Volume& v) : volume(&v), solver(v) {}
+
+  // The layer's candidate pixels into `spans` (the outline's cut widened by the band, or the
+  // fold's boxes); false when there are none.
+  bool candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
+                  detail::RowSpans& spans) const;
 };
 
 struct Slicer::CellData {
@@ -86,9 +96,12 @@ struct Slicer::LayerWork {
   std::vector<std::vector<detail::TracedRow>> traced_rows;   // per trivariate (empty unless traced first)
   std::vector<std::vector<std::uint8_t>> traced_inside;      // per trivariate, width x height
   std::vector<std::vector<std::vector<double>>> shell_rows;  // per cut shell: crossings per row
+  // Per cut shell decided by its winding number: the windings beyond each crossing, per row.
+  std::vector<std::vector<std::vector<int>>> shell_row_windings;
 
   // Scratch.
   std::vector<Segment2> segments;
+  std::vector<int> directions;
   detail::RowSpans spans, outline_spans;
   std::vector<std::array<Vec3, 3>> slab_triangles;
   detail::TracedRow kept;

@@ -7,6 +7,7 @@
 
 #include "trivox/output/atomic_file.h"
 #include "trivox/slice/job.h"
+#include "trivox/slice/printed_extent.h"
 
 namespace trivox {
 
@@ -25,6 +26,23 @@ void put_counters(json& j, const LayerStats& s) {
   j["pixels_inside"] = s.pixels_inside;
   j["voxels_per_material"] = s.voxels_per_material;
   j["pixels_per_cell"] = s.pixels_per_cell;
+}
+
+// The printed extent (whole voxels with a material) beside the model's box, in mm.
+json extent_json(const Slicer& slicer, const JobStats& stats) {
+  const auto box_json = [](const Box3& b) {
+    if (b.empty()) return json(nullptr);
+    const Vec3 size = b.size();
+    return json{{"size_mm", {size.x, size.y, size.z}},
+                {"lo_mm", {b.lo.x, b.lo.y, b.lo.z}},
+                {"hi_mm", {b.hi.x, b.hi.y, b.hi.z}}};
+  };
+  json printed = box_json(printed_box_mm(stats.printed, stats.layout));
+  if (!stats.printed.empty())
+    printed["voxels"] = {stats.printed.col_hi - stats.printed.col_lo + 1,
+                         stats.printed.row_hi - stats.printed.row_lo + 1,
+                         stats.printed.layer_hi - stats.printed.layer_lo + 1};
+  return {{"printed", printed}, {"model", box_json(slicer.scene().bounds())}};
 }
 
 }  // namespace
@@ -80,6 +98,7 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
                       {"x0_mm", L.x0_mm},
                       {"y_top_mm", L.y_top_mm},
                       {"z0_mm", L.z0_mm}}},
+                    {"extent", extent_json(slicer, stats)},
                     {"materials", materials},
                     {"cells", cells},
                     {"total", totals},

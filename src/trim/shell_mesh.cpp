@@ -100,6 +100,14 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, int max_samples)
 ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map,
                      double map_tolerance, int max_samples) {
   const Map* mapping = map ? &map : nullptr;
+  if (shell.mesh) {
+    // A mesh trim is taken as it is: there is nothing to sample, and no map refines it.
+    if (mapping != nullptr)
+      throw ModelError(
+          fmt::format("{}: a triangle mesh trims in model space, not in a volume's parameters", shell.name));
+    build_mesh_trim(*shell.mesh, shell.rule);
+    return;
+  }
   if (shell.surfaces.empty() && shell.trimmed.empty())
     throw ModelError(fmt::format("{}: the shell has no surface", shell.name));
   if (!shell.trimmed.empty()) {
@@ -230,8 +238,13 @@ ShellMesh ShellMesh::mapped(const std::function<Vec3(Vec3)>& map) const {
   m.open_edges_ = open_edges_;
   m.gap_tolerant_ = gap_tolerant_;
   m.seam_gap_ = seam_gap_;
+  m.winding_ = winding_;
+  m.flipped_ = flipped_;
+  m.own_triangles_ = own_triangles_;
+  m.cones_ = cones_;
   const SlicedMesh moved = mesh_.mapped(map);
   m.build_index(moved.vertices(), moved.triangles());
+  m.bound_cones();
   return m;
 }
 
@@ -291,7 +304,26 @@ bool ShellMesh::line_parity(Vec3 p, double dx, double dy, bool& even) const {
   return beyond % 2 == 1;
 }
 
+void ShellMesh::row_crossings(Vec3 p, int& beyond, int& winding) const {
+  beyond = winding = 0;
+  const Box3& b = bounds();
+  if (yz_cells_.empty() || !(p.z >= b.lo.z && p.z <= b.hi.z && p.y >= b.lo.y && p.y <= b.hi.y)) return;
+  Segment2 s;
+  int direction;
+  double x;
+  for (int tri : yz_cells_[yz_cell(p.y, p.z)])
+    if (mesh_.cut_triangle(tri, p.z, s, direction) && crosses_row(s, p.y, x) && x > p.x) {
+      ++beyond;
+      winding += crossing_winding(s, direction);
+    }
+}
+
 bool ShellMesh::contains(Vec3 p) const {
+  if (winding_) {
+    int beyond, w;
+    row_crossings(p, beyond, w);
+    return winding_inside(w, p);
+  }
   const Box3& b = bounds();
   if (gap_tolerant_) {
     if (yz_cells_.empty() ||

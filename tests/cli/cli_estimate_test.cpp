@@ -42,9 +42,9 @@ TEST(CliEstimate, ValidateCountsTheStackOutputs) {
     SCOPED_TRACE(format);
     const CliResult v = run_cli("validate " + job_args(format));
     ASSERT_EQ(v.exit_code, 0) << v.err;
-    // materials.csv, the stack and the manifest; no file per layer.
+    // materials.csv, the stack, stats.json and the manifest; no file per layer.
     EXPECT_NE(v.out.find("files (from 3 sample layers)"), std::string::npos) << v.out;
-    EXPECT_NE(v.out.find(" in 3 files"), std::string::npos) << v.out;
+    EXPECT_NE(v.out.find(" in 4 files"), std::string::npos) << v.out;
     // The stack of 12 model layers of 710 x 355 px is tens of kB at least (the TIFF's pages
     // are the smallest: about 37 kB in all).
     EXPECT_GT(bytes_after(v.out, "output: about "), 30e3) << v.out;

@@ -71,7 +71,7 @@ TEST(CliVersion, TheProgramReportsVersionCommitBuildCompilerAndLibraries) {
 }
 
 TEST(CliVersion, EverySubcommandTakesVersionEvenWithoutItsRequiredArguments) {
-  for (const char* command : {"slice", "validate", "merge", "verify", "info", "probe", "build"})
+  for (const char* command : {"init", "slice", "validate", "merge", "verify", "info", "probe", "build"})
     expect_full_report(run_cli(fmt::format("{} --version", command)), fmt::format("trivox {} --version", command));
   // With other options around it, too: nothing is read or written.
   expect_full_report(run_cli("slice missing.json -o /nonexistent/out --version"), "slice ... --version");

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -49,6 +50,22 @@ TEST_P(FuzzInputs, EveryCheckedInInputEndsInAResultOrADocumentedError) {
       const std::vector<std::uint8_t> bytes = read_bytes(file);
       EXPECT_NO_THROW(fuzz::run_target(GetParam(), bytes, scene_dir.path())) << file;
     }
+}
+
+// The pipeline's seeds are there to reach the slicer: most of them must slice, write and
+// verify a job, not be refused or skipped as too large (a generator change that stops that
+// would leave the pipeline fuzzer testing the parsers only).
+TEST(PipelineFuzzSeeds, MostSliceAndVerifyAJob) {
+  ScratchDir work;
+  const auto seeds = inputs_of("pipeline", "corpus");
+  int sliced = 0;
+  for (const fs::path& file : seeds) {
+    const fuzz::PipelineOutcome o = fuzz::run_pipeline(read_bytes(file), work.path());
+    sliced += o.kind == fuzz::PipelineOutcome::Kind::kSliced;
+    if (o.kind != fuzz::PipelineOutcome::Kind::kSliced)
+      std::cout << file.filename().string() << ": " << (o.refusal.empty() ? "too large" : o.refusal) << "\n";
+  }
+  EXPECT_GE(2 * sliced, static_cast<int>(seeds.size())) << sliced << " of " << seeds.size() << " seeds sliced a job";
 }
 
 INSTANTIATE_TEST_SUITE_P(Targets, FuzzInputs,

@@ -101,7 +101,14 @@ INSTANTIATE_TEST_SUITE_P(
         // Sizes given by mode="uniform" csize: refused before anything is allocated for them,
         // without overflow (67108864 x 67108864 x 4096 functions is 2^64).
         MalformedCase{"xml_uniform_overflow.xml", false, 6, "but <coefs> holds only 0 numbers"},
-        MalformedCase{"xml_uniform_huge.xml", false, 6, "holds only 24 numbers"}),
+        MalformedCase{"xml_uniform_huge.xml", false, 6, "holds only 24 numbers"},
+        // GoTools .g2
+        MalformedCase{"g2_truncated.g2", false, 11, "the file ends after 9 of the 24 coefficient values"},
+        MalformedCase{"g2_weight_zero.g2", false, 11, "coefficient 2 has weight 0"},
+        MalformedCase{"g2_unknown_class.g2", false, 1, "707 is not a GoTools class number"},
+        MalformedCase{"g2_huge_counts.g2", false, 4, "the file ends within the 100000002 knots along u"},
+        MalformedCase{"g2_order_too_high.g2", false, 3, "order 40 along u: trivox evaluates orders up to 32"},
+        MalformedCase{"g2_knots_decreasing.g2", false, 3, "the knots along u"}),
     case_name);
 
 TEST(MalformedInput, EveryCorpusFileHasACase) {
@@ -109,7 +116,7 @@ TEST(MalformedInput, EveryCorpusFileHasACase) {
   int files = 0;
   for (const auto& e : fs::directory_iterator(fs::path(TRIVOX_TEST_DATA_DIR) / "malformed"))
     files += e.is_regular_file() ? 1 : 0;
-  EXPECT_EQ(files, 42);
+  EXPECT_EQ(files, 48);
 }
 
 TEST(MalformedInput, MissingFileIsAnIoError) {

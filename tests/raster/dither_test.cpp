@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,10 @@ namespace {
 //
 // The algorithm of dither.h written the slow, obvious way: one error vector per pixel of the
 // whole image (64-bit, so overflow is out of the question), receivers gathered into a
-// vector per pixel. It shares with the fast version only the tap table and the fraction
-// rounding (src/raster/dither_kernels.h).
+// vector per pixel. It shares with the fast version only the tap table, the fraction
+// rounding and the tie-break's hash (src/raster/dither_kernels.h). With `tie_break` (layer
+// variation) each choice takes the bonus that hash gives the pixel, larger within
+// detail::kStartRows rows of where the part starts in its column in scan order.
 struct ReferenceResult {
   LabelImage labels;
   std::int64_t max_abs_error = 0;  // largest |error| component emitted, fixed-point units
@@ -29,7 +32,7 @@ struct ReferenceResult {
 
 ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& inside, bool serpentine,
                                  DiffusionKernel kernel = DiffusionKernel::kFloydSteinberg,
-                                 detail::ScanOrientation orientation = {}) {
+                                 detail::ScanOrientation orientation = {}, bool tie_break = false, int layer = 0) {
   const int w = grid.width_px();
   const int h = grid.height_px();
   const int m = grid.num_materials();
@@ -45,6 +48,12 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
   const int flip = orientation.bottom_up ? 1 : 0;
   auto image_y = [&](int ly) { return flip ? h - 1 - ly : ly; };
   ReferenceResult result{LabelImage(w, h), 0};
+  // Rows since the part started in each column, in scan order: counted over the logical rows.
+  std::vector<int> depth(static_cast<std::size_t>(w * h), 0);
+  for (int ly = 0; ly < h; ++ly)
+    for (int x = 0; x < w; ++x)
+      if (ly > 0 && inside.inside(x, image_y(ly)) && inside.inside(x, image_y(ly - 1)))
+        depth[static_cast<std::size_t>(ly * w + x)] = depth[static_cast<std::size_t>((ly - 1) * w + x)] + 1;
   for (int ly = 0; ly < h; ++ly) {
     const int y = image_y(ly);
     const bool reverse = (serpentine && ly % 2 == 1) != orientation.first_row_reversed;
@@ -61,9 +70,16 @@ ReferenceResult reference_dither(const MaterialGrid& grid, const InsideMask& ins
       }
       desired[0] = err(x, y, 0) + kDitherFixedOne - material_total;
 
+      std::vector<std::int64_t> choice = desired;
+      if (tie_break) {
+        const detail::TieBreak tb =
+            detail::tie_break(detail::tie_break_row_seed(layer, y), x, static_cast<std::uint32_t>(c_count),
+                              std::min(depth[static_cast<std::size_t>(ly * w + x)], 255));
+        choice[tb.component] += tb.bonus;
+      }
       int best = 0;
       for (int c = 1; c < c_count; ++c) {
-        if (desired[static_cast<std::size_t>(c)] > desired[static_cast<std::size_t>(best)]) {
+        if (choice[static_cast<std::size_t>(c)] > choice[static_cast<std::size_t>(best)]) {
           best = c;
         }
       }
@@ -258,10 +274,12 @@ TEST(DitherTest, MatchesReferenceBitForBit) {
     DitherParams params;
     params.serpentine = trial % 2 == 0;
     params.kernel = static_cast<DiffusionKernel>(trial % 3);
+    params.vary_by_layer = trial % 7 != 3;
     const int layer = (trial / 2) % 5;
     const LabelImage fast = dither(grid, mask, params, layer);
-    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine, params.kernel,
-                                                 detail::scan_orientation(layer, params.vary_by_layer));
+    const ReferenceResult ref =
+        reference_dither(grid, mask, params.serpentine, params.kernel,
+                         detail::scan_orientation(layer, params.vary_by_layer), params.vary_by_layer, layer);
     ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m << ", "
                                 << describe(params, layer);
     worst_error = std::max(worst_error, ref.max_abs_error);
@@ -299,8 +317,9 @@ TEST(DitherTest, PureBlocksMatchReferenceBitForBit) {
     params.kernel = static_cast<DiffusionKernel>(trial % 3);
     const int layer = trial % 4;
     const LabelImage fast = dither(grid, mask, params, layer);
-    const ReferenceResult ref = reference_dither(grid, mask, params.serpentine, params.kernel,
-                                                 detail::scan_orientation(layer, params.vary_by_layer));
+    const ReferenceResult ref =
+        reference_dither(grid, mask, params.serpentine, params.kernel,
+                         detail::scan_orientation(layer, params.vary_by_layer), params.vary_by_layer, layer);
     ASSERT_EQ(fast, ref.labels) << "trial " << trial << ": " << w << " x " << h << ", m = " << m << ", block " << block
                                 << ", seam " << seam;
   }
@@ -424,8 +443,9 @@ TEST(DitherTest, BlueNoiseIsPositionDeterministic) {
   }
 }
 
-// Layer 0 is dithered as without variation; other layers get other patterns from the same
-// fractions (no pattern stacks up into vertical streaks), each still exact in the mean.
+// Without variation every layer gets the same pattern; with it every layer another (no
+// pattern stacks up into vertical streaks), each still exact in the mean. Blue noise's
+// layer 0 is the unshifted tile, as without variation.
 TEST(DitherTest, LayerVariationChangesThePattern) {
   MaterialGrid grid(96, 64, 2);
   for (int y = 0; y < 64; ++y) {
@@ -440,18 +460,95 @@ TEST(DitherTest, LayerVariationChangesThePattern) {
     set_dither_method(name, varied);
     DitherParams fixed = varied;
     fixed.vary_by_layer = false;
-    EXPECT_EQ(dither(grid, mask, varied, 0), dither(grid, mask, fixed, 0)) << name;
+    if (varied.method == DitherMethod::kBlueNoise) {
+      EXPECT_EQ(dither(grid, mask, varied, 0), dither(grid, mask, fixed, 0));
+    } else {
+      EXPECT_NE(dither(grid, mask, varied, 0), dither(grid, mask, fixed, 0)) << name;
+    }
     std::vector<LabelImage> layers;
-    for (int layer = 0; layer < 4; ++layer) {
+    for (int layer = 0; layer < 8; ++layer) {
       layers.push_back(dither(grid, mask, varied, layer));
-      EXPECT_EQ(dither(grid, mask, fixed, layer), layers.front()) << name << " layer " << layer;
+      EXPECT_EQ(dither(grid, mask, fixed, layer), dither(grid, mask, fixed, 0)) << name << " layer " << layer;
       EXPECT_NEAR(share(layers.back(), 0, 0, 96, 64, 1), 0.3, 0.01) << name;
       EXPECT_NEAR(share(layers.back(), 0, 0, 96, 64, 2), 0.45, 0.01) << name;
     }
-    for (int a = 0; a < 4; ++a)
-      for (int b = a + 1; b < 4; ++b)
+    for (int a = 0; a < 8; ++a)
+      for (int b = a + 1; b < 8; ++b)
         EXPECT_NE(layers[static_cast<std::size_t>(a)], layers[static_cast<std::size_t>(b)])
             << name << " layers " << a << ", " << b;
+  }
+}
+
+// A part symmetric about its middle row and column (the bar, the tube): the scan orientations
+// alone mirror layers into each other, so its middle row and column would repeat in pairs of
+// layers (a streak plane), and layers four apart would be the same. With the tie-break no row
+// and no column of any two of 16 layers is the same.
+TEST(DitherTest, ASymmetricPartRepeatsNoRowOrColumn) {
+  constexpr int kW = 61, kH = 41, kLayers = 16;
+  MaterialGrid grid(kW, kH, 2);
+  InsideMask mask(kW, kH, 0);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const double dx = std::abs(x - kW / 2) / (kW / 2.0), dy = std::abs(y - kH / 2) / (kH / 2.0);
+      grid.at(x, y, 0) = static_cast<float>(0.2 + 0.4 * dx);
+      grid.at(x, y, 1) = static_cast<float>(0.15 + 0.2 * dy);
+      mask.at(x, y) = dx * dx + dy * dy <= 1.0 ? 1 : 0;
+    }
+  const auto same_row = [](const LabelImage& a, const LabelImage& b, int y) {
+    for (int x = 0; x < a.width_px(); ++x)
+      if (a.at(x, y) != b.at(x, y)) return false;
+    return true;
+  };
+  const auto same_column = [](const LabelImage& a, const LabelImage& b, int x) {
+    for (int y = 0; y < a.height_px(); ++y)
+      if (a.at(x, y) != b.at(x, y)) return false;
+    return true;
+  };
+  for (int kernel = 0; kernel < 3; ++kernel) {
+    DitherParams params;
+    params.kernel = static_cast<DiffusionKernel>(kernel);
+    SCOPED_TRACE(describe(params, 0));
+    // The orientations alone: layers 1 and 2 mirror each other about the middle row.
+    const auto without = [&](int layer) {
+      return reference_dither(grid, mask, true, params.kernel, detail::scan_orientation(layer, true)).labels;
+    };
+    EXPECT_TRUE(same_row(without(1), without(2), kH / 2));
+    EXPECT_EQ(without(0), without(4));
+    std::vector<LabelImage> layers;
+    for (int layer = 0; layer < kLayers; ++layer) layers.push_back(dither(grid, mask, params, layer));
+    for (int a = 0; a < kLayers; ++a)
+      for (int b = a + 1; b < kLayers; ++b) {
+        // Rows and columns that hold a few pixels only may repeat by chance: not those.
+        for (int y = 4; y < kH - 4; ++y)
+          EXPECT_FALSE(same_row(layers[a], layers[b], y)) << a << " " << b << " row " << y;
+        for (int x = 4; x < kW - 4; ++x)
+          EXPECT_FALSE(same_column(layers[a], layers[b], x)) << a << " " << b << " column " << x;
+      }
+  }
+}
+
+// The tie-break only decides near-ties: a pure material (or void) never flips, whatever the
+// mask and the layer.
+TEST(DitherTest, VariationNeverChangesAPureMaterial) {
+  std::mt19937 rng(31u);
+  for (int trial = 0; trial < 60; ++trial) {
+    const int w = uniform_int(rng, 1, 70), h = uniform_int(rng, 1, 50), m = uniform_int(rng, 1, 4);
+    const int material = uniform_int(rng, 0, m);  // m: void
+    MaterialGrid grid(w, h, m);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        if (material < m) grid.at(x, y, material) = 1.0f;
+    const InsideMask mask = random_mask(rng, w, h);
+    DitherParams params;
+    params.kernel = static_cast<DiffusionKernel>(trial % 3);
+    params.serpentine = trial % 2 == 0;
+    const std::uint8_t expected = material < m ? LabelImage::label_of_material(material) : LabelImage::kVoid;
+    for (int layer = 0; layer < 12; ++layer) {
+      const LabelImage labels = dither(grid, mask, params, layer);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          ASSERT_EQ(labels.at(x, y), mask.inside(x, y) ? expected : LabelImage::kVoid) << "trial " << trial;
+    }
   }
 }
 
@@ -645,15 +742,24 @@ TEST(DitherTest, ThinWallKeepsItsShare) {
   EXPECT_NEAR(share(labels, 2, 0, 1, kH, 1), 0.3, 0.002);
 }
 
+// Without layer variation ties go to the lowest label; with it, the layer's tie-break
+// decides, so both sides of a tie occur over the layers.
 TEST(DitherTest, TiesGoToTheLowestLabel) {
+  DitherParams fixed;
+  fixed.vary_by_layer = false;
   MaterialGrid half_void(1, 1, 1);
   half_void.at(0, 0, 0) = 0.5f;
-  EXPECT_EQ(dither(half_void, InsideMask(1, 1, 1)).at(0, 0), LabelImage::kVoid);
+  EXPECT_EQ(dither(half_void, InsideMask(1, 1, 1), fixed).at(0, 0), LabelImage::kVoid);
 
   MaterialGrid two(1, 1, 3);
   two.at(0, 0, 1) = 0.5f;
   two.at(0, 0, 2) = 0.5f;
-  EXPECT_EQ(dither(two, InsideMask(1, 1, 1)).at(0, 0), LabelImage::label_of_material(1));
+  EXPECT_EQ(dither(two, InsideMask(1, 1, 1), fixed).at(0, 0), LabelImage::label_of_material(1));
+
+  std::set<std::uint8_t> varied;
+  for (int layer = 0; layer < 64; ++layer)
+    varied.insert(dither(two, InsideMask(1, 1, 1), DitherParams{}, layer).at(0, 0));
+  EXPECT_EQ(varied, (std::set<std::uint8_t>{LabelImage::label_of_material(1), LabelImage::label_of_material(2)}));
 }
 
 // A fixed input must give these exact labels on every machine and compiler (fixed-point
@@ -672,10 +778,18 @@ TEST(DitherTest, GoldenHash) {
       mask.at(x, y) = dx * dx + dy * dy < 900 ? 1 : 0;
     }
   }
-  EXPECT_EQ(fnv1a(dither(grid, mask).values()), 7913593261764580648ull);
+  // Without layer variation (the tie-break changed nothing there).
+  DitherParams fixed;
+  fixed.vary_by_layer = false;
+  EXPECT_EQ(fnv1a(dither(grid, mask, fixed).values()), 7913593261764580648ull);
+  fixed.serpentine = false;
+  EXPECT_EQ(fnv1a(dither(grid, mask, fixed).values()), 1078253651600671865ull);
+  // With it, in two layers.
+  EXPECT_EQ(fnv1a(dither(grid, mask, DitherParams{}, 0).values()), 3357401875976725726ull);
+  EXPECT_EQ(fnv1a(dither(grid, mask, DitherParams{}, 5).values()), 12681323035572302222ull);
   DitherParams raster;
   raster.serpentine = false;
-  EXPECT_EQ(fnv1a(dither(grid, mask, raster).values()), 1078253651600671865ull);
+  EXPECT_EQ(fnv1a(dither(grid, mask, raster, 0).values()), 3464753017930425491ull);
 }
 
 TEST(DitherTest, ReusesAndResizesTheOutput) {

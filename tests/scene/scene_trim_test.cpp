@@ -5,6 +5,7 @@
 
 #include "scene/scene_test_util.h"
 #include "support/test_support.h"
+#include "trivox/scene/fraction_sums.h"
 
 namespace trivox {
 namespace {
@@ -44,6 +45,29 @@ TEST(SceneTrim, UnionExpandsIntoMutuallyExclusiveCells) {
   EXPECT_EQ(s.cells[2].scene_volume, 1);
   EXPECT_EQ(s.cells[2].trim.clauses[0].volume, 0);
   EXPECT_EQ(s.cells[2].trim.clauses[0].side, TrimSide::kInside);
+}
+
+// The fraction check of a trimmed cell covers its whole volume: a point where the material
+// breaks the rule may lie outside the cell, so it is "cannot prove", the point named; the
+// untrimmed cells are proved.
+TEST(SceneTrim, FractionCheckOfATrimmedCellCannotProveWhatTheTrimMayCut) {
+  const Scene s = parse_scene(
+      scene(R"("unions": [{"name": "u", "volumes": ["A", "B"], "regions": [
+      {"of": ["A"], "material": {"kind": "expression", "fractions": {"VeroCyan": "u + 0.5", "VeroMagenta": "1 - u"}}},
+      {"of": ["B"], "material": "VeroMagenta"},
+      {"of": ["A", "B"], "material": "VeroCyan"}]}],
+      "cells": [{"name": "plain", "geometry": )" +
+            box(10, 12) +
+            R"(, "material": {"kind": "expression", "fractions": {"VeroCyan": "1 - w", "VeroMagenta": "w"}}}])"),
+      "scene.json");
+  const std::vector<CellFractionCheck> checks = check_scene_fractions(s);
+  ASSERT_EQ(checks.size(), 4u);
+  EXPECT_EQ(checks[0].check.outcome, FractionCheckOutcome::kProved) << checks[0].check.reason;  // "plain"
+  EXPECT_EQ(checks[1].check.outcome, FractionCheckOutcome::kUnproved);                          // "u/A"
+  EXPECT_NE(checks[1].check.reason.find("sum to"), std::string::npos) << checks[1].check.reason;
+  EXPECT_NE(checks[1].check.reason.find("trim may cut away"), std::string::npos) << checks[1].check.reason;
+  EXPECT_EQ(checks[2].check.outcome, FractionCheckOutcome::kProved);
+  EXPECT_EQ(checks[3].check.outcome, FractionCheckOutcome::kProved);
 }
 
 TEST(SceneTrim, UnknownTrimVolumeNamesTheFieldAndTheNames) {

@@ -45,7 +45,8 @@ const std::vector<std::string>& example_scenes() {
 
 // Those of examples/shared_scenes/, read from ../shared.
 const std::vector<std::string>& shared_example_scenes() {
-  static const std::vector<std::string> names = {"duck", "duck_trimmed_box", "teapot", "teapot_trimmed_box"};
+  static const std::vector<std::string> names = {"bunny_mesh_box", "duck",   "duck_trimmed_box",
+                                                 "hex_nut_radial", "teapot", "teapot_trimmed_box"};
   return names;
 }
 

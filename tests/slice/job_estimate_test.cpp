@@ -44,17 +44,47 @@ TEST(JobEstimate, SamplingEveryLayerPredictsTheOutputSizeOfTheJob) {
 
   EXPECT_EQ(e.whole_job_files, 1);  // materials.csv
   run_slice_job(slicer, p);
-  std::uint64_t file_bytes = 0, manifest_bytes = 0;
+  std::uint64_t file_bytes = 0, manifest_bytes = 0, stats_bytes = 0;
   for (const auto& entry : fs::recursive_directory_iterator(p.output_dir)) {
     if (!entry.is_regular_file()) continue;
     if (entry.path().extension() == ".png" || entry.path().extension() == ".csv") file_bytes += entry.file_size();
     if (entry.path().filename() == "manifest.json") manifest_bytes = entry.file_size();
+    if (entry.path().filename() == "stats.json") stats_bytes = entry.file_size();
   }
-  // Every layer was sampled, so only the integer mean and the manifest allowance differ.
+  // Every layer was sampled, so only the integer mean, the manifest allowance and the
+  // digits of stats.json's timings differ.
   const std::uint64_t allowance = 140u * 91u;
-  EXPECT_LE(e.output_bytes, file_bytes + allowance);
-  EXPECT_GE(e.output_bytes + static_cast<std::uint64_t>(model_layers), file_bytes + allowance);
+  ASSERT_GT(stats_bytes, 0u);
+  EXPECT_LE(e.output_bytes, file_bytes + stats_bytes + stats_bytes / 20 + allowance);
+  EXPECT_GE(e.output_bytes + static_cast<std::uint64_t>(model_layers) + stats_bytes / 20,
+            file_bytes + stats_bytes + allowance);
   EXPECT_LE(manifest_bytes, allowance + 2000u);  // the allowance covers the real manifest
+  fs::remove_all(p.output_dir);
+}
+
+// A tall job of small layers (the chalice: 901 layers, most of them a thin stem) writes a
+// stats.json comparable to its images; the estimate counts it, from the job's own writer.
+TEST(JobEstimate, StatsJsonIsCounted) {
+  Scene scene = test::scene_with({test::gradient_cell(test::box_volume({0, 0, 0}, {0.3, 0.3, 3}))}, 2);
+  scene.source = "estimate-tall-scene";
+  const Slicer slicer(scene, {});
+  ASSERT_GE(slicer.layout().num_layers, 90);
+  JobParams p;
+  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-estimate-stats-{}", ::getpid());
+  fs::remove_all(p.output_dir);
+  p.threads = 2;
+  const JobEstimate e = estimate_job(slicer, p, EstimateParams{3});
+  run_slice_job(slicer, p);
+  std::uint64_t all_bytes = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(p.output_dir))
+    if (entry.is_regular_file()) all_bytes += entry.file_size();
+  const std::uint64_t stats_bytes = fs::file_size(p.output_dir / "stats.json");
+  EXPECT_GT(stats_bytes, all_bytes / 4) << "stats.json is not a large part of this job";
+  // stats.json within 5% (its timings' digits vary), the whole output within 10%.
+  EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes),
+              0.05 * static_cast<double>(stats_bytes));
+  EXPECT_NEAR(static_cast<double>(e.output_bytes), static_cast<double>(all_bytes),
+              0.10 * static_cast<double>(all_bytes));
   fs::remove_all(p.output_dir);
 }
 
@@ -148,7 +178,10 @@ TEST(JobEstimate, StackOutputsAreCountedOnDiskAndInMemory) {
     const std::uint64_t rest =
         fs::file_size(p.output_dir / "materials.csv") + fs::file_size(p.output_dir / "manifest.json");
     const std::uint64_t allowance = 140u * 2u;  // the manifest's, for two files
-    const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance;
+    const std::uint64_t stats_bytes = fs::file_size(p.output_dir / "stats.json");
+    EXPECT_NEAR(static_cast<double>(e.stats_bytes), static_cast<double>(stats_bytes),
+                0.05 * static_cast<double>(stats_bytes));
+    const std::uint64_t real = stack_bytes + fs::file_size(p.output_dir / "materials.csv") + allowance + e.stats_bytes;
     EXPECT_LE(rest, fs::file_size(p.output_dir / "materials.csv") + allowance + 2000u);
     if (format == "vdb") {
       EXPECT_GE(e.output_bytes, real / 2);

@@ -1,5 +1,6 @@
 // `--preview`: chosen layers in display colours at their true proportions.
 #include <filesystem>
+#include <set>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include "cli/cli_run.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/output/display_colours.h"
 #include "trivox/output/png_io.h"
 #include "trivox/slice/job.h"
 
@@ -58,6 +60,37 @@ TEST(LayerPreview, ChosenLayersShowEveryVoxelInItsColourWithSquarePixels) {
   JobParams outside = p;
   outside.preview_layers = {L.num_layers};
   EXPECT_THROW(run_slice_job(slicer, outside), Error);
+}
+
+// Two materials in nearly the same colour (VeroWhite and Agilus30White): the Voxel Print
+// image keeps both exact colours, the preview and the cuts show them clearly apart.
+TEST(LayerPreview, NearlyEqualColoursShowApart) {
+  Scene scene = test::scene_with({test::gradient_cell(test::box_volume({0, 0, 0}, {6, 3, 0.3}))}, 2);
+  scene.materials[0].rgba = {240, 240, 235, 255};
+  scene.materials[1].rgba = {232, 232, 228, 255};
+  const Slicer slicer(scene, {});
+  JobParams p;
+  p.output_dir = fs::temp_directory_path() / "trivox-layer-preview-similar";
+  fs::remove_all(p.output_dir);
+  p.min_layers = 0;
+  p.formats = {"voxelprint", "preview"};
+  p.preview_layers = {2};
+  run_slice_job(slicer, p);
+  const auto colours = [](const RgbaImage& im) {
+    std::set<Rgb> found;
+    for (std::size_t i = 0; i < im.rgba.size(); i += 4) found.insert({im.rgba[i], im.rgba[i + 1], im.rgba[i + 2]});
+    return found;
+  };
+  const std::set<Rgb> exact = colours(read_png_rgba(p.output_dir / "slice_00003.png"));
+  EXPECT_TRUE(exact.count({240, 240, 235}) && exact.count({232, 232, 228}));
+  for (const char* name : {"preview/layer_00003.png", "preview/cut_xz.png"}) {
+    SCOPED_TRACE(name);
+    std::set<Rgb> shown = colours(read_png_rgba(p.output_dir / name));
+    shown.erase({255, 255, 255});  // the background
+    shown.erase({128, 128, 128});  // the contact sheet's grid, if any
+    ASSERT_EQ(shown.size(), 2u);
+    EXPECT_GE(colour_difference(*shown.begin(), *shown.rbegin()), kDisplayColourSeparation);
+  }
 }
 
 TEST(LayerPreview, CommandLineOption) {

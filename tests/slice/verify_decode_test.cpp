@@ -175,5 +175,34 @@ TEST_F(VerifyDecodes, StacksOfAnotherJobAreReported) {
   fs::remove_all(other);
 }
 
+// A job whose only output is a stack (a lab that wants only the .gcvf) writes no file per
+// layer: its one stack file holds every layer, and a complete job verifies. Its stack file
+// must be listed: a manifest that lost the entry is reported.
+TEST_F(VerifyDecodes, AJobWithOnlyAStackOutputVerifies) {
+  const Slicer slicer(*scene_, {});
+  for (const auto& [format, stack] : std::map<std::string, std::string>{
+           {"gcvf", "gcvf/stack.gcvf"}, {"tiff", "tiff/stack.tif"}, {"vdb", "vdb/stack.vdb"}}) {
+    SCOPED_TRACE(format);
+    const fs::path dir = fs::temp_directory_path() / fmt::format("trivox-verify-decode-{}-only-{}", ::getpid(), format);
+    fs::remove_all(dir);
+    JobParams p;
+    p.output_dir = dir;
+    p.threads = 2;
+    p.formats = {format};
+    run_slice_job(slicer, p);
+    const VerifyReport r = verify_output(dir);
+    EXPECT_TRUE(r.ok()) << (r.problems.empty() ? "" : r.problems.front());
+    EXPECT_EQ(r.files_checked, 2);  // the stack and materials.csv
+
+    JobManifest m = read_manifest(dir / "manifest.json");
+    m.files.erase(
+        std::remove_if(m.files.begin(), m.files.end(), [&](const ManifestFile& f) { return f.name == stack; }),
+        m.files.end());
+    write_manifest(dir / "manifest.json", m);
+    expect_one_problem(verify_output(dir), "manifest.json", fmt::format("no file of the '{}' output", format));
+    fs::remove_all(dir);
+  }
+}
+
 }  // namespace
 }  // namespace trivox

@@ -12,6 +12,7 @@
 // default are listed in docs/ARCHITECTURE.md, "Tolerances of the inverse map".
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string_view>
@@ -124,10 +125,11 @@ class GlobalSolver {
   // tolerance of an extreme point found; both are exact bounds, by the convex hull property
   // and because a net's corners lie on the volume). Depends on the volume alone, never on an
   // approximation of it. Each side is widened by 64 units in the last place of the largest
-  // coordinate, so that V's evaluations, which round, lie inside too. After `max_nets`
-  // halvings per side the side is the best upper
-  // bound found so far: still outside the image, not always within the tolerance.
-  Box3 image_bounds(double tolerance_model, int max_nets = 100000) const;
+  // coordinate, so that V's evaluations, which round, lie inside too. Once the nets halved
+  // for one side hold `max_points` control points in all (the work, whatever the orders),
+  // that side is the best upper bound found so far: still outside the image, not always
+  // within the tolerance.
+  Box3 image_bounds(double tolerance_model, std::int64_t max_points = 4'000'000) const;
 
  private:
   struct Pieces;

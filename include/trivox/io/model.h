@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -13,10 +14,20 @@
 namespace trivox {
 
 struct Patch {
-  std::string name;     // the object's name (IRIT) or "Geometry id=N" (G+Smo)
+  std::string name;     // the object's name (IRIT), "Geometry id=N" (G+Smo) or "SplineVolume #k" (GoTools)
   int id = 0;           // G+Smo id attribute, or the patch's index when the file has none
   int source_line = 0;  // line in the file where the patch starts (1-based; 0 when unknown)
   TensorSpline spline;
+  // GoTools .g2: the auxiliary integers of the object's header (such as an RGBA colour),
+  // which write_g2 writes back; empty for the other formats.
+  std::vector<int> header_aux{};
+};
+
+// Something a reader skipped or assumed without failing, such as a GoTools object of a class
+// trivox does not read. The library never prints notes; `trivox info` does.
+struct ModelNote {
+  int line = 0;  // where in the file (1-based; 0 when unknown)
+  std::string text;
 };
 
 // An IRIT trimmed-surface model (MODEL): surfaces restricted to loops of trimming segments,
@@ -47,23 +58,52 @@ struct Model {
   std::vector<Patch> patches;  // in document order
   // IRIT MODEL objects (their untrimmed surfaces are also in `patches`).
   std::vector<TrimmedModel> trimmed_models;
+  // In file order.
+  std::vector<ModelNote> notes{};
 
   // Indices of the patches with param_dim 3 (trivariates).
   std::vector<int> volume_indices() const;
 };
 
-// Reads a model by file type: `.itd` (IRIT text) or `.xml` (G+Smo). Throws InputError
-// (file, line, rule) on malformed content, UnsupportedError on valid but unsupported types
-// (e.g. THBSpline3), IoError when the file cannot be read. Never returns a partial model.
+// Reads a model by file type: `.itd` (IRIT text), `.xml` (G+Smo) or `.g2` (GoTools). Throws
+// InputError (file, line, rule) on malformed content, UnsupportedError on valid but
+// unsupported types (e.g. THBSpline3), IoError when the file cannot be read. Never returns a
+// partial model.
 Model read_model(const std::filesystem::path& path);
 
 // IRIT .itd text. `source` names the input in error messages.
 Model read_itd(std::string_view text, const std::string& source);
 // G+Smo XML.
 Model read_gismo_xml(std::string_view text, const std::string& source);
+// GoTools .g2 text: SplineCurve, SplineSurface and SplineVolume objects (classes 100, 200,
+// 700); objects of other classes are skipped, each with a note in Model::notes. At least one
+// object must be read.
+Model read_g2(std::string_view text, const std::string& source);
 
 // Writes every patch as an IRIT object (TRIVAR/SURFACE/CURVE BSPLINE, E<d> or P<d>, KV or
 // KVP), with enough digits (17 significant) that reading it back gives identical doubles.
 void write_itd(std::ostream& out, const Model& model);
+
+// Writes every patch as a GoTools object (SplineCurve 100, SplineSurface 200, SplineVolume
+// 700, header version 1 0 with the patch's header_aux), 17 significant digits. A periodic
+// direction is written as the unclamped basis it evaluates as, its wrapped control points
+// repeated (GoTools has no periodic knot vectors): the same spline, read back as an
+// ordinary one. Rational points are homogeneous (w*x, ..., w), chosen so that reading
+// divides back to the same double wherever one exists (docs/FORMATS.md).
+void write_g2(std::ostream& out, const Model& model);
+
+// Writes every patch as a G+Smo <Geometry> (BSpline, Nurbs, TensorBSpline2/3,
+// TensorNurbs2/3, id = the patch's index; a periodic direction as the unclamped basis it
+// evaluates as) and, when all patches have the same number of parameters, a <MultiPatch>
+// with the interfaces and boundary sides find_topology (io/topology.h) finds. Numbers in the
+// shortest form that reads back to the same double: read_gismo_xml gives the model back
+// exactly (names aside: G+Smo stores none).
+void write_gismo_xml(std::ostream& out, const Model& model);
+
+// The model formats trivox writes, chosen by a file name's extension.
+enum class ModelFormat { kItd, kGismoXml, kG2 };
+// .itd, .xml or .g2 (any case); nullopt for another extension.
+std::optional<ModelFormat> model_format_of(const std::filesystem::path& path);
+void write_model(std::ostream& out, const Model& model, ModelFormat format);
 
 }  // namespace trivox

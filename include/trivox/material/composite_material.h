@@ -36,6 +36,7 @@ class BlendMaterial final : public MaterialFunction {
   BlendMaterial(MaterialPtr a, MaterialPtr b, MaterialPtr weight);
   std::string_view kind() const noexcept override { return "blend"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   MaterialPtr a_, b_, weight_;
@@ -47,6 +48,7 @@ class ThresholdMaterial final : public MaterialFunction {
   ThresholdMaterial(MaterialPtr source, double level, MaterialPtr below, MaterialPtr above);
   std::string_view kind() const noexcept override { return "threshold"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   MaterialPtr source_;
@@ -66,6 +68,7 @@ class SelectMaterial final : public MaterialFunction {
   SelectMaterial(std::vector<SelectRegion> regions, MaterialPtr otherwise, const ParamBox& cell_domain);
   std::string_view kind() const noexcept override { return "select"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   std::vector<SelectRegion> regions_;
@@ -78,6 +81,7 @@ class VoidMaskMaterial final : public MaterialFunction {
   VoidMaskMaterial(MaterialPtr material, MaterialPtr void_share);
   std::string_view kind() const noexcept override { return "void_mask"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   MaterialPtr material_, void_share_;
@@ -90,6 +94,7 @@ class TransferMaterial final : public MaterialFunction {
   TransferMaterial(MaterialPtr source, std::vector<GradientStop> stops);
   std::string_view kind() const noexcept override { return "transfer"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   MaterialPtr source_;

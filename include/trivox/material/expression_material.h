@@ -58,12 +58,24 @@ class ExpressionMaterial final : public MaterialFunction {
   std::string_view kind() const noexcept override { return "expression"; }
   // Non-finite results (0/0, sqrt(-1)) are passed on; the fraction policy rejects them.
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  // Interval arithmetic over each expression's tree, intersected with the mean-value form
+  // (the value at the box's centre plus an enclosure of the gradient times the box's
+  // half-widths), for each fraction and for their sum, whose gradients add up (1 - u and u
+  // sum to exactly 1). An expression bounds nothing (everything, not finite) when its tree
+  // did not read it as muParser does: before the trees are trusted, both evaluate every
+  // expression at a fixed set of points and must agree.
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
   const ExpressionParams& params() const noexcept { return params_; }
+  // Whether every non-empty expression has a tree to bound it with.
+  bool boundable() const noexcept;
 
  private:
   struct Evaluator;
+  struct Trees;
   std::unique_ptr<Evaluator> make_evaluator() const;
+  void build_trees();
+  std::unique_ptr<Trees> trees_;
 
   ExpressionParams params_;
   AffineParamMap map_;

@@ -27,6 +27,8 @@ class FieldScalarMaterial final : public MaterialFunction {
 
   std::string_view kind() const noexcept override { return "field_scalar"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> values) const override;
+  // The component's (or the magnitude's) bounds from the field restricted to the box.
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   TensorSpline field_;

@@ -24,6 +24,8 @@
 #include <string_view>
 #include <vector>
 
+#include "trivox/error.h"
+#include "trivox/material/fraction_enclosure.h"
 #include "trivox/math.h"
 
 namespace trivox {
@@ -75,6 +77,15 @@ class MaterialFunction {
   // A kind that cannot bound itself reports [-inf, +inf]; this default does so.
   virtual void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const;
 
+  // An enclosure of the fractions and of their sum over a box of the cell's parameters,
+  // for the samples whose positions lie in `xyz` (mm; a box that holds the cell's image of
+  // `box`): sound (every value evaluate_row computes there, before its rounding to float,
+  // lies inside), possibly loose. fraction_check.h proves a scene's fraction rules with it.
+  // This default derives it from bounds() and sums the fraction intervals; kinds that know
+  // more (a constant exactly, spline fields by their coefficients, expressions by interval
+  // arithmetic with the mean-value form) override it.
+  virtual FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const;
+
   // One sample: a convenience for tests and tools, not for the slicing loop.
   void evaluate(Vec3 uvw, Vec3 xyz, std::span<float> fractions) const {
     evaluate_row(std::span<const Vec3>(&uvw, 1), std::span<const Vec3>(&xyz, 1), fractions);
@@ -113,10 +124,37 @@ struct MaterialSite {
   std::vector<std::string> material_names;  // names by index for messages (may be empty)
 };
 
+// What the fraction policy throws: an InputError at the scene file and the JSON pointer of
+// the cell's material, whose message names the cell, the rule and where: the parameters and
+// the position in mm (6 significant digits each), and the layer once the slicer adds it,
+// e.g. "cell 'lid': layer 124 (z = 3.705 mm): the fractions sum to 1.3 > 1 (...) at (u,v,w) =
+// (0.5, 0.25, 1), (x,y,z) = (20.5, 3.25, 3.705) mm".
+class FractionError : public InputError {
+ public:
+  FractionError(const MaterialSite& site, std::string rule, Vec3 uvw, const Vec3* xyz);
+
+  const std::string& cell() const noexcept { return cell_; }
+  const std::string& broken_rule() const noexcept { return broken_rule_; }  // the rule alone
+  Vec3 uvw() const noexcept { return uvw_; }
+  bool has_position() const noexcept { return has_xyz_; }
+  Vec3 xyz() const noexcept { return xyz_; }
+  int layer() const noexcept { return layer_; }  // 1-based; 0 when not known
+
+  // The same error, met in layer `layer` (1-based, as in the file names) at height z_mm.
+  FractionError in_layer(int layer, double z_mm) const;
+
+ private:
+  FractionError(std::string file, std::string where, std::string message);
+  std::string cell_, broken_rule_, source_, pointer_;
+  Vec3 uvw_{}, xyz_{};
+  bool has_xyz_ = false;
+  int layer_ = 0;
+};
+
 // Applies `policy` in place to n samples of m fractions (n = uvw.size(), the parameters
-// reported in errors). A fraction that is not a finite number is an error under both
-// policies. Allocation-free; throws InputError as described for MaterialSite.
+// reported in errors; xyz, when not empty, the positions, reported too). A fraction that is
+// not a finite number is an error under both policies. Allocation-free; throws FractionError.
 void apply_fraction_policy(const FractionPolicy& policy, const MaterialSite& site, int m, std::span<const Vec3> uvw,
-                           std::span<float> fractions);
+                           std::span<float> fractions, std::span<const Vec3> xyz = {});
 
 }  // namespace trivox

@@ -39,6 +39,8 @@ class PorousTilesMaterial final : public MaterialFunction {
   // Exact where the box lies in one tile and clear of (or inside) both cylinders; otherwise
   // [0, 1] for the materials of the tiles it meets.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
+  // Every sample is one material or void: the sum is at most the largest upper bound.
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
   const PorousTilesParams& params() const noexcept { return params_; }
 

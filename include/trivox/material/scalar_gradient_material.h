@@ -39,6 +39,8 @@ class ScalarGradientMaterial final : public MaterialFunction {
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // Bounds the field by its control coefficients, then the ramp over that value interval.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
+  // The ramp over the field's coefficient bounds on the box (the restricted piece).
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
   const TensorSpline& field() const noexcept { return field_; }
   const std::vector<GradientStop>& stops() const noexcept { return stops_; }

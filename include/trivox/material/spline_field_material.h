@@ -27,6 +27,9 @@ class SplineFieldMaterial final : public MaterialFunction {
   // Minimum and maximum control coefficients whose basis support meets the box (convex
   // hull property; NURBS weights are positive).
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
+  // Per component and for the sum of the components: the control coefficients of the
+  // field restricted to the box (the tight hull of that piece).
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
   const TensorSpline& field() const noexcept { return field_; }
   const AffineParamMap& cell_to_field() const noexcept { return map_; }

@@ -43,6 +43,8 @@ class TwistingCurvesMaterial final : public MaterialFunction {
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
   // [0, 1] for the materials of the points and the background, 0 for the others.
   void bounds(const ParamBox& box, std::span<float> lo, std::span<float> hi) const override;
+  // Every sample is one material or void: the sum is at most the largest upper bound.
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
   const TwistingCurvesParams& params() const noexcept { return params_; }
 

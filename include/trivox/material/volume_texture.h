@@ -67,10 +67,15 @@ class TextureMaterial final : public MaterialFunction {
 
   std::string_view kind() const noexcept override { return "texture"; }
   void evaluate_row(std::span<const Vec3> uvw, std::span<const Vec3> xyz, std::span<float> fractions) const override;
+  // Nearest and trilinear filtering give values within the hull of the image's samples: each
+  // channel's and the mapped channels' sum's smallest and largest sample (found once).
+  FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
  private:
   VolumeTexture texture_;
   std::vector<int> channel_materials_;
+  std::vector<Interval> channel_range_;  // per channel, over every sample
+  Interval sum_range_;                   // of the channels that name a material
   AffineParamMap map_;
 };
 

@@ -37,6 +37,16 @@ inline bool crosses_row(const Segment2& s, double yc, double& x) noexcept {
   return true;
 }
 
+// The winding contribution of a crossing of the line y = yc by segment s (crosses_row),
+// counted for a point left of it (the ray along +x): +1 where the oriented segment runs
+// towards -y, -1 where it runs towards +y. `direction` is the segment's direction from
+// SlicedMesh::cut_triangle (+1: from (x0, y0) to (x1, y1)). For a closed mesh of
+// counter-clockwise triangles (seen from outside) the contributions beyond a point add up to
+// its winding number: 1 inside, 0 outside.
+inline int crossing_winding(const Segment2& s, int direction) noexcept {
+  return (s.y1 < s.y0) == (direction > 0) ? 1 : -1;
+}
+
 class SlicedMesh {
  public:
   using Triangle = std::array<int, 3>;
@@ -57,8 +67,16 @@ class SlicedMesh {
   // The cross-section at height z: one segment per triangle crossing the plane, in triangle
   // order. Replaces the contents of `out`.
   void cut(double z, std::vector<Segment2>& out) const;
+  // The same with each segment's direction (below), in `directions`.
+  void cut(double z, std::vector<Segment2>& out, std::vector<int>& directions) const;
   // The segment where triangle `t` crosses the plane z; false when it does not.
   bool cut_triangle(int t, double z, Segment2& s) const;
+  // The same, with the segment's direction: +1 when the triangle's boundary, followed in its
+  // vertex order, rises through the plane at (x0, y0) and falls at (x1, y1), -1 the other way
+  // round. Seen from +z, a counter-clockwise triangle (outward normal) then has the solid on
+  // the right of its segment run from the rising point to the falling one. The points are
+  // those of the call without a direction, bit for bit.
+  bool cut_triangle(int t, double z, Segment2& s, int& direction) const;
   // The triangles that may cross the plane z (a superset of those that do).
   std::span<const int> near(double z) const;
   // Every triangle that meets the slab z0 <= z <= z1, once each (its vertices).

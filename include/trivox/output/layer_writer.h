@@ -140,6 +140,10 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 //               display, thumbnails); a stack output; the printer profile must have a display.
 std::unique_ptr<LayerWriter> make_layer_writer(std::string_view format, const OutputContext& context);
 std::vector<std::string> layer_writer_names();
+// Whether the format is a stack output (its writers need the whole stack and write their
+// files, under a folder named after the format, when the job completes) rather than one
+// that writes files for every layer. Throws Error for an unknown name.
+bool is_stack_format(std::string_view format);
 // Whether `format` puts the materials' names into its file names ("bitmaps", "legacy").
 bool layer_writer_names_files_by_material(std::string_view format);
 

@@ -36,8 +36,12 @@
 // Layer variation: stacked layers with the same fractions would get the same pattern, which
 // shows as vertical streaks on walls. With vary_by_layer the pattern depends on the layer
 // index: error diffusion changes its scan orientation (rows top-down or bottom-up, first row
-// left to right or right to left; a cycle of four), blue noise shifts its tile by a per-layer
-// offset. Layer 0 is dithered exactly as without variation.
+// left to right or right to left; a cycle of four) and breaks near-ties by a small bonus to
+// one component, hashed from the layer and the pixel's position (for the choice only: the
+// error diffused is unchanged, so a pure material never flips); blue noise shifts its tile by
+// a per-layer offset (layer 0 unshifted). The orientations alone would mirror the layers of a
+// part symmetric about its middle row into each other, repeating that row in pairs of
+// layers; the tie-break leaves no row or column repeated (docs/DITHERING.md, "Streaks").
 //
 // Skin: with skin_voxels = k > 0, the pixels within k pixels (8-neighbour steps) of the
 // outside of the mask or the image border take their nearest pure label (the largest
@@ -81,8 +85,8 @@ struct DitherParams {
   // Error diffusion: scan even rows left to right and odd rows right to left (the kernel
   // mirrored), which breaks up the diagonal "worm" patterns of a raster scan.
   bool serpentine = true;
-  // Change the scan orientation (error diffusion) or the tile offset (blue noise) with the
-  // layer index, see above.
+  // Change the scan orientation and the tie-break (error diffusion) or the tile offset (blue
+  // noise) with the layer index, see above.
   bool vary_by_layer = true;
   // Width of the undithered skin in pixels; 0 = none. At most kMaxSkinVoxels.
   int skin_voxels = 0;

@@ -54,9 +54,19 @@ struct Cell {
   // The clauses every pixel of the cell satisfies besides lying inside `volume`; empty for a
   // whole volume.
   Trim trim{};
+  // SHA-256 (hex) of what defines the cell in the scene file: its entry, the named volumes it
+  // is parametrized or trimmed by, its trim clauses. Two scenes whose cell fingerprints agree
+  // give the cell the same voxels; a resumed job compares them (manifest.h). Empty for cells
+  // built in code.
+  std::string fingerprint{};
   // The scene's greyscale source for this cell when it is a scalar source (one output,
   // evaluated like a material function), null otherwise (Scene::greyscale).
   std::shared_ptr<const MaterialFunction> grey_source{};
+  // The volume folds over itself (det J takes both signs on the sampled grid) and the scene
+  // accepts it ("allow_fold"): it is sliced by the fold rules (docs/SCENE.md, "Folded
+  // cells"): a pixel is inside when any of its preimages is, and takes the material at the
+  // preimage of largest |det J|.
+  bool folds = false;
 };
 
 // The scene's "greyscale" block: instead of dithering, a masked-resin printer exposes each
@@ -80,6 +90,7 @@ struct SceneVolume {
   std::string name;
   std::string pointer;  // JSON pointer of its entry
   Volume volume;        // model space (mm), placement applied
+  bool folds = false;   // as Cell::folds
 };
 
 // A file a scene reads, with the SHA-256 of its bytes (for the job manifest).
@@ -92,6 +103,9 @@ struct Scene {
   std::string source;  // the scene file as given
   // SHA-256 of the scene text that was parsed; empty for scenes built in code.
   std::string source_sha256;
+  // SHA-256 (hex) of the scene without its cells, volumes, unions, description and fraction
+  // policy: the printer, the materials, the dithering. Empty for scenes built in code.
+  std::string settings_fingerprint;
   // Every model and field file the scene read, once each, in the order first used.
   std::vector<SceneInputFile> input_files;
   PrinterProfile printer;

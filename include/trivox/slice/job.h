@@ -21,6 +21,7 @@
 
 #include "trivox/output/png_io.h"
 #include "trivox/slice/manifest.h"
+#include "trivox/slice/printed_extent.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {
@@ -92,6 +93,7 @@ struct JobStats {
   std::vector<std::string> files;  // every file written by this run, relative to the output folder, sorted
   int layers_kept = 0;             // job layers a resumed job found complete and did not redo
   bool interrupted = false;        // JobParams::stop ended the job early (manifest: interrupted)
+  PrintedExtent printed;           // the voxels with a material, of the layers this run sliced
 };
 
 // Reports progress from the job's workers (calls are serialised by the job).

@@ -32,7 +32,8 @@ struct JobEstimate {
   int files_per_layer = 0;               // from the formats
   int whole_job_files = 0;               // files of the whole job: materials.csv and the stack outputs
   int sampled_layers = 0;                // 0 when output size and time are not measured
-  std::uint64_t output_bytes = 0;        // layer files + whole-job files + manifest; from the samples
+  std::uint64_t output_bytes = 0;        // layer files + whole-job files + stats.json + manifest; from the samples
+  std::uint64_t stats_bytes = 0;         // of which stats.json: an entry per model layer
   std::uint64_t scratch_bytes = 0;       // spool files of the stack outputs, on disk until the job ends
   std::uint64_t peak_memory_bytes = 0;   // process now + per worker buffers x threads + stack outputs
   std::uint64_t stack_memory_bytes = 0;  // the stack outputs' part of the peak (e.g. OpenVDB grids)

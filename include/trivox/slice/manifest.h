@@ -36,6 +36,24 @@ struct ManifestFile {
   std::string sha256;
 };
 
+// A cell of the scene, for resuming a job after a correction of the scene.
+struct ManifestCell {
+  std::string name;
+  std::string sha256;  // Cell::fingerprint
+  // The job layers (1-based) its volume may reach: the planes of those layers meet its
+  // control points' box; 0, 0 when it reaches none of the job's.
+  int first_layer = 0, last_layer = 0;
+};
+
+// What shapes the layers, part by part (Scene::settings_fingerprint, the fraction policy and
+// the cells' fingerprints): the record that lets a job resume after the scene changed in a way
+// that cannot change the layers it kept (resume_differences).
+struct ManifestSceneParts {
+  std::string settings_sha256;
+  std::string fraction_sums;  // "error TOLERANCE" or "normalise"
+  std::vector<ManifestCell> cells;
+};
+
 struct JobManifest {
   std::string tool_version;
   JobStatus status = JobStatus::kRunning;
@@ -46,6 +64,8 @@ struct JobManifest {
   int total_layers = 0;  // job layers, padding included
   int shard_index = 1;   // 1-based; 1 of 1 for an unsharded job
   int shard_count = 1;
+  // Absent for a scene built in code (and in manifests of earlier versions).
+  std::optional<ManifestSceneParts> scene_parts;
   std::vector<ManifestFile> files;  // sorted by (layer, name)
 
   // Sorts files by (layer, name).
@@ -72,5 +92,16 @@ void write_manifest(const std::filesystem::path& path, const JobManifest& manife
 // setting or layer count. One line per difference, empty when `previous` and `current`
 // describe the same job (shard numbers and files are not compared).
 std::vector<std::string> manifest_differences(const JobManifest& previous, const JobManifest& current);
+
+// What stops a job (`current`) from keeping the job layers `kept` (1-based) that the job of
+// `previous` completed: manifest_differences, except that a scene file that changed is
+// accepted when the scene parts show that the change cannot change those layers: the same
+// settings (printer, materials, dithering), a fraction policy that accepts every sample the
+// previous one accepted ("error" to "normalise", or a larger tolerance: a completed layer met
+// no sample beyond the old tolerance, and within it both clean the fractions alike), the same
+// number of cells, and every cell whose definition changed reaching none of the kept layers.
+// One line per reason, empty when the layers can be kept.
+std::vector<std::string> resume_differences(const JobManifest& previous, const JobManifest& current,
+                                            const std::vector<int>& kept);
 
 }  // namespace trivox

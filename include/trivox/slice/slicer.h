@@ -51,6 +51,11 @@ class Slicer {
   const SliceLayout& layout() const noexcept { return layout_; }
   const SliceParams& params() const noexcept { return params_; }
   const Scene& scene() const noexcept { return scene_; }
+  // Bytes one worker holds while it slices a layer beyond the layer's rasters: the tracer's
+  // rows in flight (a few rows of seeds and Jacobians per column of the bitmap), and the
+  // traced rows of every trivariate that is traced once per layer for the trims it decides
+  // (their solutions per pixel, all pixels counted). For the job estimate (job_estimate.h).
+  std::uint64_t tracing_bytes_per_worker() const noexcept;
   // The dithering in effect: params().dither, else the scene's, else the defaults.
   const DitherParams& dither_params() const noexcept { return dither_; }
 

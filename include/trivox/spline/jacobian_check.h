@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string_view>
+#include <vector>
 
 #include "trivox/spline/volume.h"
 
@@ -29,5 +30,17 @@ struct JacobianReport {
 };
 
 JacobianReport check_jacobian(const Volume& v, const JacobianCheckParams& params = {});
+
+// Where a folded volume folds, from the samples of check_jacobian: the samples whose det J
+// has the minority sign (det J < 0 where at least as many samples are > 0, else det J > 0),
+// grouped into sets connected on the grid (through faces, edges or corners), each set's box
+// grown by one grid step on every side (within the domain: the sign changes somewhere
+// between a sample and its neighbours) and boxes that then overlap merged. Sorted by their
+// lower corner (u, then v, then w). Empty unless the volume is kFolded.
+struct FoldRegion {
+  ParamBox box;
+  int samples = 0;  // minority samples inside
+};
+std::vector<FoldRegion> fold_regions(const Volume& v, const JacobianCheckParams& params = {});
 
 }  // namespace trivox

@@ -26,6 +26,22 @@
 // is crossed an odd number of times and loses its vote, so a point is misjudged only when
 // all four lines pass through gaps, that is within the gap's width of the surface. The
 // slicer does the same: a row crossed an odd number of times asks contains() per pixel.
+//
+// A mesh trim (TrimShell::mesh) is taken as it is, its triangles and vertices unchanged, and
+// decided by its rule. By the even-odd rule it is one more closed mesh, decided as above. By
+// the winding-number rule a point is inside when the mesh's generalized winding number there
+// (the solid angle its triangles subtend, over 4 pi: Jacobson et al. 2013) is at least 1/2.
+// The orientation is repaired first (mesh_check.h: orient_consistently), and the whole mesh
+// turned if it then encloses a negative volume. That number is not summed over every
+// triangle per pixel: the mesh's boundary (edges used more often one way than the other) is
+// closed by a cone of triangles over each of its connected pieces, from the mean of its
+// vertices, which makes the mesh and the cones a closed surface; its winding number W is an
+// integer counted by signed crossings exactly as the even-odd rule counts crossings
+// (crossing_winding, on the same cut: the cones are part of the mesh), and the generalized
+// winding number is W minus the cones' own. The cones' share is summed only near them: away
+// from a cone its size bounds its share (its area over 4 pi times the squared distance from
+// its bounding ball), and where all shares together stay below 1/2 the answer is W >= 1. A
+// closed mesh has no cone, and the rule is then the nonzero rule for outward triangles.
 #pragma once
 
 #include <array>
@@ -54,6 +70,9 @@ class ShellMesh {
   // mm, so the pixels it decides inside lie inside that outline.
   ShellMesh(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>& map, double map_tolerance,
             int max_samples = 1024);
+  // A mesh trim (shell.mesh set): the mesh as it is, decided by shell.rule. Throws ModelError
+  // for an empty mesh.
+  explicit ShellMesh(const TrimShell& shell);
 
   // Whether the shell has trimmed surfaces and is decided by the vote above.
   bool gap_tolerant() const noexcept { return gap_tolerant_; }
@@ -73,8 +92,22 @@ class ShellMesh {
   // cell's volume, giving its outline in model space). Topology and tie rules are kept.
   ShellMesh mapped(const std::function<Vec3(Vec3)>& map) const;
 
-  // Whether p lies inside by the even-odd rule (see above). Thread-safe.
+  // Whether p lies inside by the shell's rule (see above). Thread-safe.
   bool contains(Vec3 p) const;
+
+  // Whether the shell is decided by the generalized winding number (a mesh trim's
+  // winding-number rule).
+  bool winding() const noexcept { return winding_; }
+  // The decision of the winding-number rule at p, given w, the sum of crossing_winding over
+  // the crossings beyond p.x of the line through p along x in the plane z = p.z with the cut
+  // of mesh() (cones included).
+  bool winding_inside(int w, Vec3 p) const;
+  // The generalized winding number of the mesh's own triangles at p (without the cones),
+  // summed over every triangle: the slow reference of winding_inside.
+  double generalized_winding_number(Vec3 p) const;
+  // The cones that close the boundary, and the triangles flipped by the repair.
+  std::size_t cone_count() const noexcept { return cones_.size(); }
+  std::size_t flipped_triangles() const noexcept { return flipped_; }
 
  private:
   ShellMesh() = default;
@@ -82,6 +115,15 @@ class ShellMesh {
   void build_index(std::vector<Vec3> vertices, std::vector<SlicedMesh::Triangle> triangles);
   void build_trimmed(const TrimShell& shell, double tolerance, const std::function<Vec3(Vec3)>* map,
                      double map_tolerance, int max_samples);
+
+  void build_mesh_trim(const SlicedMesh& mesh, InsideRule rule);
+  // cones_ and their bounds from the cone triangles of mesh_ (after it moved).
+  void bound_cones();
+  // The generalized winding number of cone k's triangles at p.
+  double cone_winding_number(std::size_t k, Vec3 p) const;
+  // The crossings beyond p of the line through p along x in the plane z = p.z: their count
+  // and the sum of their windings.
+  void row_crossings(Vec3 p, int& beyond, int& winding) const;
 
   // Parity of the crossings beyond p of the line through p along (dx, dy) in the plane z =
   // p.z; false in `even` when the whole line is crossed an odd number of times.
@@ -91,6 +133,18 @@ class ShellMesh {
   double seam_gap_ = 0;
   std::size_t open_edges_ = 0;
   SlicedMesh mesh_;
+  // The winding-number rule: the cones (triangles [first, end) of mesh_, which the mesh's own
+  // triangles precede) with a ball holding each, and one ball holding them all.
+  struct Cone {
+    int first = 0, end = 0;
+    Vec3 centre;
+    double radius = 0, area = 0;
+  };
+  bool winding_ = false;
+  std::size_t flipped_ = 0;
+  int own_triangles_ = 0;
+  std::vector<Cone> cones_;
+  Cone all_cones_;
   // Triangles by (y, z) cell, for contains(): ny_ x ny_ cells over the mesh's box.
   double z0_ = 0, dzc_ = 1, y0_ = 0, dy_ = 1;
   int ny_ = 1;

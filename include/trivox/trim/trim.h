@@ -4,7 +4,8 @@
 //  * kVolume: inside (or outside) another trivariate of the scene, decided by that
 //    trivariate's exact inverse, so cells trimmed by each other's volumes (the Boolean cells
 //    "A only", "B only", "A and B") partition their union;
-//  * kShell: inside (or outside) a closed set of surfaces in model space (mm);
+//  * kShell: inside (or outside) a closed set of surfaces in model space (mm), or a closed
+//    triangle mesh there (a mesh trim: a mesh file's triangles);
 //  * kParametric: the cell's (u, v, w) inside (or outside) a closed set of surfaces drawn in
 //    V's parametric domain.
 // Shells are decided on a watertight tessellation (shell_mesh.h) within a tolerance far
@@ -16,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "trivox/mesh/sliced_mesh.h"
 #include "trivox/spline/tensor_spline.h"
 
 namespace trivox {
@@ -41,12 +43,26 @@ struct TrimmedSurface {
   std::vector<std::vector<Piece>> loops;
 };
 
+// How a mesh trim decides inside and outside (docs/SCENE.md, "Mesh trims").
+enum class InsideRule {
+  // The even-odd rule on the mesh's cut, exact per pixel; the mesh must be closed (the
+  // scene reader checks it with trivox/mesh/mesh_check.h).
+  kEvenOdd,
+  // The generalized winding number at least 1/2, after the orientation is repaired: tolerates
+  // gaps, flipped triangles and parts that overlap (their union is inside).
+  kWindingNumber,
+};
+std::string_view to_string(InsideRule r) noexcept;
+
 struct TrimShell {
   std::string name;  // for messages: the file it came from, or the scene pointer
   std::vector<TensorSpline> surfaces;
   // Trimmed surfaces. Their tessellations meet only within the accuracy of the trimming
   // curves, so a shell with any is decided by a test robust to hairline gaps (shell_mesh.h).
   std::vector<TrimmedSurface> trimmed;
+  // A triangle mesh instead of surfaces (a mesh trim), already placed, and its rule.
+  std::shared_ptr<const SlicedMesh> mesh;
+  InsideRule rule = InsideRule::kEvenOdd;
 };
 
 struct TrimClause {

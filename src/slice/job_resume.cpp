@@ -1,0 +1,61 @@
+#include "slice/job_resume.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "trivox/material/material_function.h"
+
+namespace trivox::detail {
+
+std::optional<ManifestSceneParts> scene_parts(const Scene& scene, const SliceLayout& L, int first, int model_layers) {
+  if (scene.settings_fingerprint.empty()) return std::nullopt;
+  ManifestSceneParts parts;
+  parts.settings_sha256 = scene.settings_fingerprint;
+  parts.fraction_sums = scene.fraction_policy.policy == SumPolicy::kError
+                            ? fmt::format("error {}", scene.fraction_policy.tolerance)
+                            : std::string("normalise");
+  for (const Cell& cell : scene.cells) {
+    ManifestCell c;
+    c.name = cell.name;
+    c.sha256 = cell.fingerprint;
+    // Layer l samples the plane z = z0 + (l + 1/2) layer: those between the bottom and the top
+    // of the cell's control points' box (which holds the cell), with a margin for rounding.
+    const Box3& box = cell.volume.bounds();
+    const double margin = 1e-9 * std::max(1.0, std::abs(box.hi.z) + std::abs(box.lo.z));
+    const int lo = static_cast<int>(std::ceil((box.lo.z - margin - L.z0_mm) / L.layer_mm - 0.5));
+    const int hi = static_cast<int>(std::floor((box.hi.z + margin - L.z0_mm) / L.layer_mm - 0.5));
+    const int a = std::max(lo, first), b = std::min(hi, first + model_layers - 1);
+    if (a <= b) {
+      c.first_layer = a - first + 1;
+      c.last_layer = b - first + 1;
+    }
+    parts.cells.push_back(std::move(c));
+  }
+  return parts;
+}
+
+std::vector<int> layers_of(const std::vector<ManifestFile>& files) {
+  std::vector<int> layers;
+  for (const ManifestFile& f : files)
+    if (f.layer > 0) layers.push_back(f.layer);
+  std::sort(layers.begin(), layers.end());
+  layers.erase(std::unique(layers.begin(), layers.end()), layers.end());
+  return layers;
+}
+
+std::optional<LayerResult> slice_layer_unless_failed(const Slicer& slicer, int layer, std::atomic<bool>& failed) {
+  if (failed.load()) return std::nullopt;
+  try {
+    return slicer.slice_layer(layer);
+  } catch (const FractionError& e) {
+    failed.store(true);
+    throw e.in_layer(layer + 1, slicer.layout().z_of_layer(layer));
+  } catch (...) {
+    failed.store(true);
+    throw;
+  }
+}
+
+}  // namespace trivox::detail

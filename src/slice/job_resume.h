@@ -1,0 +1,27 @@
+// Helpers of run_slice_job (job.cpp) for stopping a job at its first bad layer and resuming
+// it after a correction of the scene: the scene's parts for the manifest, and the layer loop's
+// guard that names the layer in a fraction error and stops the other workers.
+#pragma once
+
+#include <atomic>
+#include <vector>
+
+#include "trivox/slice/manifest.h"
+#include "trivox/slice/slicer.h"
+
+namespace trivox::detail {
+
+// The scene's parts (manifest.h) for a job of model layers first .. first + model_layers - 1;
+// nullopt for a scene built in code.
+std::optional<ManifestSceneParts> scene_parts(const Scene& scene, const SliceLayout& layout, int first,
+                                              int model_layers);
+
+// The job layers (1-based) that `files` hold, sorted, once each.
+std::vector<int> layers_of(const std::vector<ManifestFile>& files);
+
+// slicer.slice_layer(layer), unless `failed` is set (another worker met an error: nullopt).
+// A FractionError is rethrown with the layer named (1-based model layer and its height), and
+// any error sets `failed`, so that the job's other workers start no new layer.
+std::optional<LayerResult> slice_layer_unless_failed(const Slicer& slicer, int layer, std::atomic<bool>& failed);
+
+}  // namespace trivox::detail
