@@ -14,6 +14,7 @@ enum ExitCode : int {
                            // (trivox::InputError, UnsupportedError, ModelError, other trivox::Error)
   kExitIo = 4,             // a file cannot be read or written (trivox::IoError, system errors)
   kExitCorrupt = 5,        // `trivox verify` found a missing, changed or undecodable file
+  kExitEmpty = 6,          // `trivox slice` made, or would make, a stack without the object
   kExitInterrupted = 130,  // SIGINT / SIGTERM stopped a job cleanly; it can be resumed
 };
 
@@ -26,6 +27,13 @@ class UsageError : public std::runtime_error {
 
 // A job stopped by a signal after recording its state (mapped to kExitInterrupted).
 class InterruptedError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The job's stack cannot show the object: its bitmap is under 2 pixels along x or y, or no
+// voxel of any layer is inside the object (mapped to kExitEmpty; --allow-empty accepts it).
+class EmptyResultError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };

@@ -15,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_checks.h"
 #include "cli_errors.h"
 #include "commands.h"
 #include "json_text.h"
@@ -179,7 +180,7 @@ void add_probe_command(CLI::App& app) {
       ->needs(patch);
   cmd->add_option("--tolerance", options->solve.newton.residual_tolerance_model,
                   "Inversion: largest |V(u,v,w) - x| accepted as a solution, in model units")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->callback([options] { run_probe(*options); });
 }

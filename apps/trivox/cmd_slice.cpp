@@ -2,10 +2,12 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_checks.h"
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
@@ -21,6 +24,7 @@
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
+#include "trivox/slice/job_lock.h"
 #include "trivox/slice/manifest.h"
 #include "trivox/slice/printed_extent.h"
 
@@ -89,36 +93,49 @@ std::uint64_t bytes_already_written(const JobParams& job) {
   return bytes;
 }
 
-// A job that fails for a reason a resume cannot mend must not leave a half-written stack
-// that looks like a result. The folder is put back as it was found when it was absent or
-// empty; a folder that already held files is left alone, since they are not this job's to
-// delete. Write errors and a fraction sum that breaks the rule keep the completed layers:
-// the manifest then says the job failed, and --resume finishes it once there is room, or
-// after a correction of the scene that cannot change them.
-class OutputRollback {
+// The output folder, locked for this job (job_lock.h) before the scene is read, so that a
+// second job into the same folder is refused at once.
+//
+// A job that fails for a reason a resume cannot mend (a scene that does not read, a setting
+// the job cannot take) must not leave a half-written stack that looks like a result. The
+// folder is put back as it was found when it was absent or empty; a folder that already held
+// files is left alone, since they are not this job's to delete. Write errors and a fraction
+// sum that breaks the rule keep the completed layers: the manifest then says the job failed,
+// and --resume finishes it once there is room, or after a correction of the scene that
+// cannot change them. The files are removed while the lock is still held, so that they
+// cannot be another job's.
+class LockedOutputFolder {
  public:
-  explicit OutputRollback(std::filesystem::path dir) : dir_(std::move(dir)) {
+  LockedOutputFolder(std::filesystem::path dir, int shard_index, int shard_count) : dir_(std::move(dir)) {
     std::error_code ec;
     existed_ = std::filesystem::exists(dir_, ec);
     was_empty_ = existed_ && std::filesystem::is_directory(dir_, ec) && std::filesystem::is_empty(dir_, ec);
-  }
-  OutputRollback(const OutputRollback&) = delete;
-  OutputRollback& operator=(const OutputRollback&) = delete;
-  ~OutputRollback() {
-    if (committed_ || (existed_ && !was_empty_)) return;
-    std::error_code ec;
-    if (!existed_) {
-      std::filesystem::remove_all(dir_, ec);
-      return;
+    try {
+      lock_.emplace(dir_, shard_index, shard_count);
+    } catch (const IoError&) {
+      // A folder that cannot be created holds no other job: the checks that follow report it
+      // (the disk check names the space there), or the job itself, which locks it then.
     }
-    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
-      std::filesystem::remove_all(entry.path(), ec);
   }
+  LockedOutputFolder(const LockedOutputFolder&) = delete;
+  LockedOutputFolder& operator=(const LockedOutputFolder&) = delete;
+  ~LockedOutputFolder() {
+    const bool roll_back = !committed_ && (!existed_ || was_empty_);
+    std::error_code ec;
+    if (roll_back)
+      for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
+        if (!entry.path().filename().string().starts_with(".trivox")) std::filesystem::remove_all(entry.path(), ec);
+    lock_.reset();                                                  // removes the lock files
+    if (roll_back && !existed_) std::filesystem::remove(dir_, ec);  // only when nothing else came in
+  }
+  // The lock, or nullptr when the folder could not be created.
+  JobFolderLock* lock() { return lock_ ? &*lock_ : nullptr; }
   void commit() noexcept { committed_ = true; }
 
  private:
   std::filesystem::path dir_;
   bool existed_ = false, was_empty_ = false, committed_ = false;
+  std::optional<JobFolderLock> lock_;
 };
 
 void run(const SliceOptions& so) {
@@ -130,6 +147,12 @@ void run(const SliceOptions& so) {
   job.resume = so.resume;
   job.stop = &g_stop;
   job.manifest_interval_seconds = so.manifest_interval_s;
+  // One job per folder: refused here, before the scene is read, when another job holds it.
+  LockedOutputFolder folder(job.output_dir, job.shard_index, job.shard_count);
+  job.folder_lock = folder.lock();
+  if (job.folder_lock && job.folder_lock->taken_over_from() && !so.quiet)
+    fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n",
+               *job.folder_lock->taken_over_from());
 
   const Scene scene = read_scene(o.scene, &g_stop);
   warn_about_printer(scene);
@@ -137,6 +160,7 @@ void run(const SliceOptions& so) {
   params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
   const Slicer slicer(scene, params);
   const SliceLayout& L = slicer.layout();
+  check_bitmap_shows_object(o, slicer);
   if (!o.no_checks) {
     // One sample layer is enough to refuse a job that is far too big; `trivox validate`
     // samples more for a closer estimate.
@@ -162,15 +186,14 @@ void run(const SliceOptions& so) {
   TerminalProgress progress(so.quiet);
   // A job that fails on its input part way leaves no partial stack behind; one that fails
   // to write (a full disk) or is stopped keeps what it completed for --resume.
-  OutputRollback rollback(job.output_dir);
   JobStats st;
   try {
     st = run_slice_job(slicer, job, &progress);
   } catch (const IoError&) {
-    rollback.commit();
+    folder.commit();
     throw;
   } catch (const FractionError& e) {
-    rollback.commit();
+    folder.commit();
     std::fflush(stdout);
     fmt::print(stderr,
                "trivox: the job stopped at once; {} is marked failed and keeps the layers that were complete; correct "
@@ -179,7 +202,7 @@ void run(const SliceOptions& so) {
                (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string());
     throw;
   }
-  rollback.commit();
+  folder.commit();
   const std::string manifest =
       (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
   if (st.interrupted)
@@ -210,12 +233,34 @@ void run(const SliceOptions& so) {
   if (st.padded_layers > 0)
     fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers,
                job.min_layers);
+  // A stack shorter than GrabCAD Voxel Print takes is only written when asked for; say so.
+  const int model_layers =
+      (job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1)) - job.first_layer + 1;
+  const int stack_layers = model_layers + st.padded_layers;
+  const bool voxel_print = std::any_of(job.formats.begin(), job.formats.end(),
+                                       [](const auto& f) { return f == "voxelprint" || f == "gcvf"; });
+  if (voxel_print && stack_layers < JobParams::kVoxelPrintMinLayers)
+    fmt::print(
+        "note: the stack has {} layers, fewer than the {} GrabCAD Voxel Print needs, as --min-layers {} asked "
+        "(manifest.json records min_layers {})\n",
+        stack_layers, JobParams::kVoxelPrintMinLayers, job.min_layers, job.min_layers);
+  // No voxel of the object in a job that sliced every model layer in this run (a resumed
+  // job's kept layers, or another shard's, are not counted here): the object is lost.
+  const int sliced_model_layers = static_cast<int>(st.layers.size());  // padding layers have no stats
+  const bool empty = inside == 0 && job.shard_count == 1 && st.layers_kept == 0 && sliced_model_layers > 0;
+  if (empty && o.allow_empty) fmt::print("note: the stack holds no voxel of the object (--allow-empty)\n");
   fmt::print("statistics: {}\n",
              (std::filesystem::path(o.output) /
               (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count)
                                    : std::string("stats.json")))
                  .string());
   fmt::print("manifest: {}\n", manifest);
+  if (empty && !o.allow_empty)
+    throw EmptyResultError(fmt::format(
+        "{}: the stack holds no voxel of the object: no pixel centre of its {} layers lies inside a cell (the "
+        "object is thinner than a pixel, or falls between pixel centres); the files are written and {} is complete "
+        "(--allow-empty accepts an empty stack)",
+        o.output, sliced_model_layers, manifest));
 }
 
 }  // namespace
@@ -231,7 +276,7 @@ void add_slice_command(CLI::App& app) {
   cmd->add_option("--manifest-interval", opts->manifest_interval_s,
                   "Seconds between rewrites of manifest.json while layers complete (0: after every layer); a "
                   "killed job redoes at most the layers of one interval")
-      ->check(CLI::Range(0.0, 86400.0));
+      ->check(number_in(0.0, 86400.0));
   cmd->callback([opts] { run(*opts); });
 }
 

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
 #include "trivox/error.h"
@@ -29,6 +30,7 @@ void run_validate(const ValidateOptions& v) {
   const Scene scene = read_scene(o.scene);
   warn_about_printer(scene);
   const Slicer slicer(scene, slice_params_of(o, scene));
+  check_bitmap_shows_object(o, slicer);
   const JobEstimate e =
       estimate_job(slicer, job, EstimateParams{v.samples, o.no_checks ? 0 : memory_limit_of(o).value_or(0)});
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),

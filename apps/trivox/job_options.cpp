@@ -1,12 +1,15 @@
 #include "job_options.h"
 
+#include <algorithm>
 #include <array>
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "cli_checks.h"
 #include "cli_errors.h"
+#include "trivox/error.h"
 #include "trivox/output/display_colours.h"
 #include "trivox/output/layer_writer.h"
 
@@ -55,19 +58,19 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("scene", o.scene, "Scene file (JSON, docs/SCENE.md)")->required();
   auto* out = cmd.add_option("-o,--output", o.output, "Output folder (created if missing)");
   if (output_required) out->required();
-  cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(thread_count());
   cmd.add_option("--layers", o.layers, "Only layers FIRST:LAST (1-based, inclusive)");
   cmd.add_option("--tracing", o.tracing,
                  "Seeding of the inverse: none, previous-point, previous-line, full (the paper's), predict, flood")
       ->capture_default_str();
   cmd.add_option("--residual-tolerance", o.residual_tolerance_mm,
                  "Largest |V(u,v,w) - pixel centre| of an inside pixel's solution, mm")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd.add_option("--outline-tolerance", o.outline_tolerance_mm,
                  "Largest distance between a cell's boundary and its triangulated outline, mm: the band of pixels "
                  "decided by the exact inverse is twice as wide (default: an eighth of the finest pitch)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   cmd.add_option("--dither", o.dither,
                  "Dithering: floyd-steinberg, jarvis-judice-ninke, stucki, blue-noise (default: the scene's, else "
                  "floyd-steinberg)");
@@ -98,8 +101,9 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "Extra members of the gcvf package: stl (model.stl, the cells' boundary), bbox (bounding_box.txt)")
       ->delimiter(',')
       ->check(CLI::IsMember({"stl", "bbox"}));
-  cmd.add_option("--min-layers", o.min_layers, "Pad with empty layers up to this count")
-      ->check(CLI::NonNegativeNumber)
+  cmd.add_option("--min-layers", o.min_layers,
+                 "Pad with empty layers up to this count (GrabCAD Voxel Print needs 30; fewer is reported)")
+      ->check(CLI::Range(0, JobParams::kMaxMinLayers))
       ->capture_default_str();
   cmd.add_option("--preview", o.preview_layers,
                  "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours "
@@ -109,7 +113,10 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
                  "Slice only shard I of N (I/N, layers dealt round-robin); merge with `trivox merge`");
   cmd.add_option("--memory-limit", o.memory_limit_mb,
                  "Refuse a job whose estimated peak memory exceeds this many MB (default: the machine's memory)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
+  cmd.add_flag("--allow-empty", o.allow_empty,
+               "Accept a stack without the object (a bitmap under 2 pixels along x or y, or no voxel inside): "
+               "otherwise exit 6");
   cmd.add_flag("--no-checks", o.no_checks,
                "Do not refuse a job that the estimates say will not fit the disk or the memory limit");
 }
@@ -146,6 +153,10 @@ JobParams job_params_of(const JobOptions& o) {
   job.output_dir = o.output;
   job.threads = o.threads;
   job.formats = o.formats;
+  // Before anything is read: a prefix that is a path would write outside -o (exit 3).
+  if (const auto problem = file_name_part_problem(o.prefix))
+    throw Error(fmt::format("--prefix {}: the prefix becomes part of every layer file's name: {}", shown_name(o.prefix),
+                            *problem));
   job.prefix = o.prefix;
   job.min_layers = o.min_layers;
   if (!o.background.empty()) {
@@ -179,8 +190,18 @@ void warn_about_printer(const Scene& scene) {
     fmt::print(stderr, "trivox: warning: {}\n", *warning);
 }
 
+void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer) {
+  const SliceLayout& L = slicer.layout();
+  if (o.allow_empty || (L.width_px >= 2 && L.height_px >= 2)) return;
+  throw EmptyResultError(
+      fmt::format("{}: the object is {} x {} px at printer '{}' (pixels of {:.4f} x {:.4f} mm): a bitmap under 2 "
+                  "pixels along x or y cannot show it; is the model in mm? (--allow-empty slices it anyway)",
+                  o.scene, L.width_px, L.height_px, slicer.scene().printer.name, L.pitch_x_mm, L.pitch_y_mm));
+}
+
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
-  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(o.memory_limit_mb * 1e6);
+  // Beyond 1.8e13 MB (2^64 bytes) a limit is no limit.
+  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(std::min(o.memory_limit_mb * 1e6, 1.8e19));
   return memory_limit_bytes();
 }
 

@@ -37,11 +37,12 @@ struct JobOptions {
   std::string gcvf_names = "codes";
   bool gcvf_all_materials = false;
   std::vector<std::string> gcvf_extras;
-  int min_layers = 30;
+  int min_layers = JobParams::kVoxelPrintMinLayers;
   std::vector<int> preview_layers;  // 1-based
   std::string shard;
   double memory_limit_mb = 0;  // 0 = the machine's memory (memory_limit_bytes())
   bool no_checks = false;
+  bool allow_empty = false;  // a stack without the object is not an error
 };
 
 // Adds the scene argument and every job option; `output_required` for slice.
@@ -55,6 +56,10 @@ JobParams job_params_of(const JobOptions& o);
 // Prints "trivox: warning: ..." on standard error for a printer profile whose layer
 // thickness no print mode of its family prints (printer_profile.h).
 void warn_about_printer(const Scene& scene);
+
+// Throws EmptyResultError (exit 6) unless o.allow_empty when the bitmap of `slicer`'s layout is
+// under 2 pixels along x or y: the object is smaller than the printer's pixels.
+void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer);
 
 // The memory limit the checks use, in bytes.
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o);

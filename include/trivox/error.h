@@ -12,6 +12,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace trivox {
 
@@ -66,5 +67,11 @@ class CancelledError : public Error {
  public:
   using Error::Error;
 };
+
+// A name from the input (a material, a cell, a prefix) as messages show it, in `quote`s: control
+// characters as \xNN, and a name longer than 80 bytes cut after them (at a UTF-8 character's
+// start) with its length: 'aaaa...' (1000000 characters). Messages stay one readable line
+// whatever the input holds.
+std::string shown_name(std::string_view name, char quote = '\'');
 
 }  // namespace trivox

@@ -10,11 +10,16 @@
 
 namespace trivox {
 
-// The number of workers a `threads` setting means: `threads` itself when positive, else
-// every core (at least 1).
+// The most workers a job runs on: 4 per hardware thread, at most 1024. More would only add
+// memory (each holds a layer) and contention.
+int max_worker_count() noexcept;
+
+// The number of workers a `threads` setting means: `threads` itself when positive (at most
+// max_worker_count()), else every core (at least 1).
 int worker_count(int threads) noexcept;
 
-// Runs task(i) for every i in [0, count) on worker_count(threads) workers, in any order and
+// Runs task(i) for every i in [0, count) on worker_count(threads) workers (more than the
+// cores when asked: oneTBB is allowed that many for the call), in any order and
 // several at once: each task must touch only its own data (or guard what it shares). Before
 // each task starts, `stop` (when given) is asked; once it answers true, no further task
 // starts and those running finish. Returns when every started task has ended; the first

@@ -1,6 +1,7 @@
 #include "trivox/output/atomic_file.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -89,13 +90,29 @@ bool is_atomic_temporary_name(std::string_view name) noexcept {
   return true;
 }
 
+namespace {
+
+// Whether the pid in a temporary's name ("<name>.tmp-<pid>-<n>") is a process that runs now,
+// other than this one (whose own temporaries are stale when a job starts).
+bool written_by_a_running_process(std::string_view name) noexcept {
+  const std::size_t at = name.rfind(kTempMarker) + kTempMarker.size();
+  long pid = 0;
+  for (std::size_t i = at; i < name.size() && name[i] != '-' && pid < 1'000'000'000; ++i)
+    pid = pid * 10 + (name[i] - '0');
+  if (pid <= 0 || pid > 1'000'000'000 || pid == static_cast<long>(::getpid())) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
+}  // namespace
+
 int remove_stale_temporaries(const std::filesystem::path& dir) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return 0;
   std::vector<std::filesystem::path> stale;
   for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::end(it);
        it.increment(ec))
-    if (it->is_regular_file(ec) && is_atomic_temporary_name(it->path().filename().string()))
+    if (it->is_regular_file(ec) && is_atomic_temporary_name(it->path().filename().string()) &&
+        !written_by_a_running_process(it->path().filename().string()))
       stale.push_back(it->path());
   if (ec) throw IoError(fmt::format("{}: cannot list: {}", dir.string(), ec.message()));
   for (const auto& p : stale) {

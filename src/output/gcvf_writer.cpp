@@ -60,7 +60,8 @@ int whole_dpi(double pitch_mm, const char* axis) {
 
 class GcvfWriter final : public LayerWriter {
  public:
-  explicit GcvfWriter(OutputContext c) : c_(std::move(c)), palette_(voxelprint_palette(c_)) {
+  explicit GcvfWriter(OutputContext c)
+      : c_(std::move(c)), palette_(voxelprint_palette(c_)), png_(png_with_pixel_size(c_)) {
     x_dpi_ = whole_dpi(c_.pitch_x_mm, "x");
     y_dpi_ = whole_dpi(c_.pitch_y_mm, "y");
     std::error_code ec;
@@ -74,7 +75,7 @@ class GcvfWriter final : public LayerWriter {
 
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
     const std::vector<std::uint8_t> rgba = voxelprint_rgba(labels, palette_);
-    const std::string png = encode_png_rgba(labels.width_px(), labels.height_px(), rgba, c_.png);
+    const std::string png = encode_png_rgba(labels.width_px(), labels.height_px(), rgba, png_);
     std::vector<std::int64_t> count(palette_.size(), 0);
     for (std::uint8_t l : labels.values())
       if (l < count.size()) ++count[l];
@@ -179,6 +180,7 @@ class GcvfWriter final : public LayerWriter {
 
   OutputContext c_;
   std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label
+  PngWriteParams png_;                                // the Voxel Print PNGs, with the printer's pixel size (pHYs)
   int x_dpi_ = 0, y_dpi_ = 0;
   std::unique_ptr<LayerSpool> spool_;
   mutable std::mutex mutex_;

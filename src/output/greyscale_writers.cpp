@@ -42,9 +42,7 @@ class GreyscaleStackWriter final : public LayerWriter {
  public:
   explicit GreyscaleStackWriter(OutputContext c) : c_(std::move(c)) {
     made_folder(c_.dir / "greyscale");
-    png_ = c_.png;
-    png_.pixels_per_metre_x = pixels_per_metre(c_.pitch_x_mm);
-    png_.pixels_per_metre_y = pixels_per_metre(c_.pitch_y_mm);
+    png_ = png_with_pixel_size(c_);
   }
   std::string_view name() const noexcept override { return "greyscale"; }
   bool takes_grey() const noexcept override { return true; }

@@ -45,6 +45,13 @@ std::uint64_t scaled_to_job(const StackSampling& sampling, const std::function<s
 
 namespace detail {
 
+PngWriteParams png_with_pixel_size(const OutputContext& context) {
+  PngWriteParams png = context.png;
+  png.pixels_per_metre_x = pixels_per_metre(context.pitch_x_mm);
+  png.pixels_per_metre_y = pixels_per_metre(context.pitch_y_mm);
+  return png;
+}
+
 std::array<std::uint8_t, 4> opaque(std::array<std::uint8_t, 4> rgba) {
   rgba[3] = 255;
   return rgba;
@@ -92,25 +99,27 @@ namespace {
 
 class VoxelPrintWriter final : public LayerWriter {
  public:
-  explicit VoxelPrintWriter(OutputContext c) : c_(std::move(c)), palette_(detail::voxelprint_palette(c_)) {}
+  explicit VoxelPrintWriter(OutputContext c)
+      : c_(std::move(c)), palette_(detail::voxelprint_palette(c_)), png_(detail::png_with_pixel_size(c_)) {}
   std::string_view name() const noexcept override { return "voxelprint"; }
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
     std::string file = c_.prefix + layer_number(index, c_.total_layers) + ".png";
     // Row by row: a layer's RGBA (tens of megabytes at printer resolution) never exists whole.
     write_png_rgba_rows(
         c_.dir / file, labels.width_px(), labels.height_px(),
-        [&](int y, std::span<std::uint8_t> row) { detail::voxelprint_rgba_row(labels, y, palette_, row); }, c_.png);
+        [&](int y, std::span<std::uint8_t> row) { detail::voxelprint_rgba_row(labels, y, palette_, row); }, png_);
     return {file};
   }
 
  private:
   OutputContext c_;
   std::vector<std::array<std::uint8_t, 4>> palette_;  // index = label
+  PngWriteParams png_;                                // with the printer's pixel size (pHYs)
 };
 
 class MaterialBitmapWriter final : public LayerWriter {
  public:
-  explicit MaterialBitmapWriter(OutputContext c) : c_(std::move(c)) {}
+  explicit MaterialBitmapWriter(OutputContext c) : c_(std::move(c)), png_(detail::png_with_pixel_size(c_)) {}
   std::string_view name() const noexcept override { return "bitmaps"; }
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
     std::vector<std::string> files;
@@ -121,7 +130,7 @@ class MaterialBitmapWriter final : public LayerWriter {
                      [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
       std::string file =
           fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[j]);
-      write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, c_.png);
+      write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, png_);
       files.push_back(std::move(file));
     }
     return files;
@@ -129,6 +138,7 @@ class MaterialBitmapWriter final : public LayerWriter {
 
  private:
   OutputContext c_;
+  PngWriteParams png_;  // with the printer's pixel size (pHYs)
 };
 
 std::unique_ptr<LayerWriter> make_bitmaps_writer(const OutputContext& context) {
@@ -143,14 +153,15 @@ std::unique_ptr<LayerWriter> make_bitmaps_writer(const OutputContext& context) {
 struct LayerWriterFormat {
   std::string_view name;
   std::unique_ptr<LayerWriter> (*make)(const OutputContext&);
-  bool stack;  // what its writers' needs_whole_stack() says
+  bool stack;                            // what its writers' needs_whole_stack() says
+  bool names_files_by_material = false;  // bitmaps and legacy name their files after the materials
 };
 constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"voxelprint",
      [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); },
      false},
-    {"bitmaps", make_bitmaps_writer, false},
-    {"legacy", detail::make_legacy_bitmap_writer, false},
+    {"bitmaps", make_bitmaps_writer, false, true},
+    {"legacy", detail::make_legacy_bitmap_writer, false, true},
     {"tiff", detail::make_tiff_stack_writer, true},
     {"vdb", detail::make_vdb_writer, true},
     {"gcvf", detail::make_gcvf_writer, true},
@@ -172,6 +183,24 @@ bool is_stack_format(std::string_view format) {
   for (const LayerWriterFormat& f : kLayerWriterFormats)
     if (f.name == format) return f.stack;
   throw Error(fmt::format("unknown output format '{}' (known: {})", format, fmt::join(layer_writer_names(), ", ")));
+}
+
+bool layer_writer_names_files_by_material(std::string_view format) {
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.names_files_by_material;
+  return false;
+}
+
+std::optional<std::string> file_name_part_problem(std::string_view text) {
+  if (text.size() > kMaxFileNamePartBytes)
+    return fmt::format("it is {} bytes long, and at most {} go into a file name", text.size(), kMaxFileNamePartBytes);
+  if (text.find('/') != std::string_view::npos) return std::string("it holds '/', a folder separator");
+  if (text.find('\\') != std::string_view::npos) return std::string("it holds '\\', a folder separator on Windows");
+  if (text.find("..") != std::string_view::npos) return std::string("it holds \"..\", the parent folder");
+  for (char c : text)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      return fmt::format("it holds the control character 0x{:02X}", static_cast<unsigned char>(c));
+  return std::nullopt;
 }
 
 std::vector<std::string> layer_writer_names() {

@@ -31,6 +31,12 @@ std::unique_ptr<LayerWriter> make_greyscale_stack_writer(const OutputContext& co
 std::unique_ptr<LayerWriter> make_sl1_writer(const OutputContext& context);
 std::unique_ptr<LayerWriter> make_sl1s_writer(const OutputContext& context);
 
+// The job's PNG settings with the layer's pixel size as a pHYs chunk (pixels per metre from
+// the printer's pitch: 600 x 300 dpi is 23622 x 11811), so that viewers show a printer
+// image at its true proportions. Used by the per-layer printer images (Voxel Print, the
+// material bitmaps, the greyscale stack) and the package's PNGs.
+PngWriteParams png_with_pixel_size(const OutputContext& context);
+
 // An opaque copy of a colour (alpha 255).
 std::array<std::uint8_t, 4> opaque(std::array<std::uint8_t, 4> rgba);
 // The Voxel Print colour of every label (index = label: the background, then the materials).

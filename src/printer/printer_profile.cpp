@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -36,15 +37,16 @@ struct BuiltinProfile {
   double layer_thickness_mm;
   int max_materials;
   MaskedDisplay (*display)();  // null for a printer without a mask
+  std::string_view mode = {};  // the print mode (kPolyJetModes) of a J750/J850 profile
 };
 
 constexpr std::array<BuiltinProfile, 9> kBuiltins{{
-    {"j750-hq", "j750", 0.014, 6, nullptr},
-    {"j850-hq", "j850", 0.014, 6, nullptr},
-    {"j750-hm", "j750", 0.027, 6, nullptr},
-    {"j850-hm", "j850", 0.027, 6, nullptr},
-    {"j750-hs", "j750", 0.027, 3, nullptr},
-    {"j850-hs", "j850", 0.027, 3, nullptr},
+    {"j750-hq", "j750", 0.014, 6, nullptr, "High Quality"},
+    {"j850-hq", "j850", 0.014, 6, nullptr, "High Quality"},
+    {"j750-hm", "j750", 0.027, 6, nullptr, "High Mix"},
+    {"j850-hm", "j850", 0.027, 6, nullptr, "High Mix"},
+    {"j750-hs", "j750", 0.027, 3, nullptr, "High Speed"},
+    {"j850-hs", "j850", 0.027, 3, nullptr, "High Speed"},
     {"j750-paper", "j750", 0.030, 6, nullptr},
     {"sl1", "sl1", 0.05, kMaxMaterials, sl1_display},
     {"sl1s", "sl1s", 0.05, kMaxMaterials, sl1s_display},
@@ -102,6 +104,12 @@ std::span<const PrintMode> printer_family_modes(std::string_view family) noexcep
   return {};
 }
 
+int voxel_print_max_materials(const PrinterProfile& profile) noexcept {
+  for (const PrintMode& m : printer_family_modes(profile.family))
+    if (m.name == profile.print_mode) return std::min(kVoxelPrintMaxMaterials, m.max_materials);
+  return kVoxelPrintMaxMaterials;
+}
+
 std::optional<std::string> layer_thickness_warning(const PrinterProfile& profile) {
   const std::span<const PrintMode> modes = printer_family_modes(profile.family);
   if (modes.empty() || !(profile.layer_thickness_mm > 0)) return std::nullopt;
@@ -118,7 +126,7 @@ std::optional<std::string> layer_thickness_warning(const PrinterProfile& profile
   const double change = 100.0 * (nearest->layer_thickness_mm / profile.layer_thickness_mm - 1.0);
   return fmt::format(
       "printer '{}': the layer thickness {} mm is no print mode of the {} ({}); printed in {} mode the part "
-      "comes out {:.0f} % {} than modelled",
+      "comes out {:.3g} % {} than modelled",
       profile.name, profile.layer_thickness_mm, upper(profile.family), fmt::join(listed, ", "), nearest->name,
       std::abs(change), change < 0 ? "shorter" : "taller");
 }
@@ -131,6 +139,7 @@ PrinterProfile builtin_printer_profile(std::string_view name) {
       profile.family = std::string(builtin.family);
       profile.layer_thickness_mm = builtin.layer_thickness_mm;
       profile.max_materials = builtin.max_materials;
+      profile.print_mode = std::string(builtin.mode);
       if (builtin.display != nullptr) {
         profile.display = builtin.display();
         // Square pixels of the display's pitch.

@@ -21,6 +21,9 @@ Constructed parse_construction(std::string_view json_text, const std::filesystem
 }
 
 Constructed read_construction(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError(fmt::format("cannot read the construction file {}: it is a directory", path.string()));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw IoError(fmt::format("cannot open the construction file {}", path.string()));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

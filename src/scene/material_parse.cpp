@@ -26,11 +26,11 @@ std::optional<int> lookup(const std::vector<std::string>& names, std::string_vie
 [[noreturn]] void unknown_material(const JsonView& where, std::string_view name,
                                    const std::vector<std::string>& names) {
   std::string list;
-  for (const std::string& n : names) list += fmt::format("{}\"{}\"", list.empty() ? "" : ", ", n);
+  for (const std::string& n : names) list += fmt::format("{}{}", list.empty() ? "" : ", ", shown_name(n, '"'));
   where.fail(
-      fmt::format("unknown material \"{}\"; the scene's materials are {} (and \"void\" for "
+      fmt::format("unknown material {}; the scene's materials are {} (and \"void\" for "
                   "no material)",
-                  name, list));
+                  shown_name(name, '"'), list));
 }
 
 }  // namespace

@@ -211,14 +211,14 @@ std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProf
       std::string list;
       for (const LibraryMaterial& m : material_library()) list += fmt::format("{}{}", list.empty() ? "" : ", ", m.name);
       (named_only ? e : e.at("name"))
-          .fail(fmt::format("\"{}\" is not a library material, so it needs an \"rgba\" colour; the library "
+          .fail(fmt::format("{} is not a library material, so it needs an \"rgba\" colour; the library "
                             "materials are {}",
-                            def.name, list));
+                            shown_name(def.name, '"'), list));
     }
     if (def.name == "void") name.fail("\"void\" is reserved for no material and needs no entry");
     for (std::size_t i = 0; i < materials.size(); ++i)
       if (materials[i].name == def.name)
-        name.fail(fmt::format("material \"{}\" is declared already as /materials/{}", def.name, i));
+        name.fail(fmt::format("material {} is declared already as /materials/{}", shown_name(def.name, '"'), i));
     if (!named_only)
       if (const auto d = e.find("description")) d->string();
     materials.push_back(std::move(def));
@@ -326,7 +326,7 @@ void add_cell(Scene& scene, detail::SceneContext& ctx, const JsonView& entry, co
               std::string name, Volume volume, const JsonView& material, int scene_volume, Trim trim, bool folds) {
   for (const Cell& other : scene.cells)
     if (other.name == name)
-      name_field.fail(fmt::format("the cell name \"{}\" is taken by {} already", name, other.pointer));
+      name_field.fail(fmt::format("the cell name {} is taken by {} already", shown_name(name, '"'), other.pointer));
   auto raw = detail::parse_material(material, ctx, volume.domain());
   MaterialSite site{scene.source, material.pointer(), name, ctx.material_names()};
   auto checked = std::make_shared<CheckedMaterial>(std::move(raw), scene.fraction_policy, std::move(site));

@@ -21,6 +21,8 @@ const Model& SceneContext::model(const JsonView& file_field) {
   const std::string key = path.string();
   if (const auto it = models_.find(key); it != models_.end()) return it->second;
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    file_field.fail(fmt::format("cannot read the model file \"{}\": {} is a directory, not a file", name, key));
   if (!std::filesystem::is_regular_file(path, ec))
     file_field.fail(
         fmt::format("cannot read the model file \"{}\": there is no file {} (names "
@@ -180,6 +182,8 @@ std::filesystem::path SceneContext::existing_file(const JsonView& file_field, st
   if (path.is_relative()) path = base_dir_ / path;
   path = path.lexically_normal();
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    file_field.fail(fmt::format("cannot read the {} \"{}\": {} is a directory, not a file", what, name, path.string()));
   if (!std::filesystem::is_regular_file(path, ec))
     file_field.fail(
         fmt::format("cannot read the {} \"{}\": there is no file {} (names are relative to the "

@@ -19,6 +19,7 @@
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/material_sheet.h"
 #include "trivox/parallel.h"
+#include "trivox/slice/job_lock.h"
 #include "trivox/slice/printed_extent.h"
 #include "trivox/version.h"
 
@@ -126,6 +127,60 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (scene.num_materials() > scene.printer.max_materials)
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
+  if (params.min_layers < 0 || params.min_layers > JobParams::kMaxMinLayers)
+    throw Error(fmt::format("min_layers is {}: a stack is padded to 0 to {} layers", params.min_layers,
+                            JobParams::kMaxMinLayers));
+  // Voxel Print's colour limit holds whatever the printer profile says.
+  for (const std::string& format : params.formats)
+    if ((format == "voxelprint" || format == "gcvf") &&
+        scene.num_materials() > voxel_print_max_materials(scene.printer))
+      throw Error(fmt::format(
+          "{}: the scene uses {} materials, but GrabCAD Voxel Print (output '{}') prints at most {} per job{} "
+          "(printer profile '{}' says {})",
+          scene.source, scene.num_materials(), format, voxel_print_max_materials(scene.printer),
+          scene.printer.print_mode.empty() ? std::string() : " in " + scene.printer.print_mode + " mode",
+          scene.printer.name, scene.printer.max_materials));
+  // Voxel Print images tell materials apart by colour alone: the scene and its fields named
+  // here, where the writers know neither.
+  if (std::any_of(params.formats.begin(), params.formats.end(),
+                  [](const std::string& f) { return f == "voxelprint" || f == "gcvf"; })) {
+    const auto colour = [](std::array<std::uint8_t, 4> c) {
+      return fmt::format("#{:02X}{:02X}{:02X}", c[0], c[1], c[2]);
+    };
+    const auto opaque = [](std::array<std::uint8_t, 4> c) {
+      c[3] = 255;
+      return c;
+    };
+    const std::array<std::uint8_t, 4> background = opaque(job_background(scene, params));
+    for (std::size_t b = 0; b < scene.materials.size(); ++b) {
+      const std::array<std::uint8_t, 4> c = opaque(scene.materials[b].rgba);
+      if (c == background)
+        throw Error(fmt::format(
+            "{}: /materials/{}: material {} has the image colour {} of the background (--background): Voxel Print "
+            "output needs a distinct colour for every material and for the background",
+            scene.source, b, shown_name(scene.materials[b].name), colour(c)));
+      for (std::size_t a = 0; a < b; ++a)
+        if (opaque(scene.materials[a].rgba) == c)
+          throw Error(fmt::format(
+              "{}: /materials/{}: material {} has the image colour {} of material {} (/materials/{}): Voxel Print "
+              "output needs a distinct colour for every material (opaque: the alpha is not part of the image "
+              "colour)",
+              scene.source, b, shown_name(scene.materials[b].name), colour(c), shown_name(scene.materials[a].name), a));
+    }
+  }
+  // Names are not paths: what goes into a file name keeps every file inside the folder.
+  if (const auto problem = file_name_part_problem(params.prefix))
+    throw Error(
+        fmt::format("the file-name prefix {} cannot be part of a file name: {}", shown_name(params.prefix), *problem));
+  for (const std::string& format : params.formats) {
+    if (!layer_writer_names_files_by_material(format)) continue;
+    for (std::size_t j = 0; j < scene.materials.size(); ++j)
+      if (const auto problem = file_name_part_problem(scene.materials[j].name))
+        throw Error(
+            fmt::format("{}: /materials/{}/name: the material {} names the files of output '{}', so it "
+                        "cannot be part of a file name: {}",
+                        scene.source, j, shown_name(scene.materials[j].name), format, *problem));
+  }
   if (params.shard_count < 1 || params.shard_index < 1 || params.shard_index > params.shard_count)
     throw Error(
         fmt::format("shard {}/{}: shards count from 1 to their number", params.shard_index, params.shard_count));
@@ -161,6 +216,18 @@ class JobRun {
   void slice_layers();
   // The whole-job files, the manifest's final status and stats.json.
   JobStats finish(std::chrono::steady_clock::time_point start);
+  // make_writers, slice_layers and finish; whatever fails in them (a full disk, a layer's
+  // input) is recorded in the manifest as the job's failure.
+  JobStats write(std::chrono::steady_clock::time_point start) {
+    try {
+      make_writers();
+      slice_layers();
+      return finish(start);
+    } catch (const std::exception& e) {
+      mark_failed(e);
+      throw;
+    }
+  }
 
  private:
   void slice_one(std::size_t task);
@@ -168,12 +235,22 @@ class JobRun {
   void record(int index, std::vector<std::string> written, std::optional<LayerStats> layer_stats,
               const PrintedExtent& printed = {});
   bool stop_requested() const { return cancelled_ || (params_.stop != nullptr && params_.stop->load()); }
-  // Records what was completed so that --resume redoes only the rest. The manifest may be
-  // unwritable too (a full disk); the previous one then stands, which is still consistent.
+  // Records what was completed so that --resume redoes only the rest, once this run has
+  // written its manifest (before that, the folder's manifest, if any, is not this run's to
+  // change). A full disk leaves no room for it: the space the lock file holds in reserve is
+  // given back for this one write. Should even that fail, the previous manifest stands,
+  // which is still consistent.
   void mark_failed(const std::exception& e) noexcept;
+  // Writes the manifest and keeps the reserve for a failure's manifest at twice its size
+  // (layers recorded since the last write make the failure's manifest longer).
+  void save_manifest();
   std::vector<std::string> write_layer(int index, const LabelImage& labels, const GreyImage& grey,
                                        bool stacks_only) const;
 
+  // The folder's lock when the caller holds none (JobParams::folder_lock); first, so that it
+  // is released last, after the writers have removed their spool files.
+  std::optional<JobFolderLock> own_lock_;
+  JobFolderLock* lock_ = nullptr;  // own_lock_ or JobParams::folder_lock
   const Slicer& slicer_;
   const JobParams& params_;
   ProgressSink* progress_;
@@ -192,12 +269,27 @@ class JobRun {
   std::mutex record_mutex_;
   int done_ = 0;
   std::atomic<bool> cancelled_{false};  // a layer threw CancelledError
-  std::atomic<bool> failed_{false};     // a layer failed (a bad fraction sum): no new layer starts
+  bool manifest_written_ = false;       // this run has written the manifest
+  bool failure_recorded_ = false;
+  std::atomic<bool> failed_{false};  // a layer failed (a bad fraction sum): no new layer starts
   std::chrono::steady_clock::time_point last_manifest_write_ = std::chrono::steady_clock::now();
 };
 
 void JobRun::open_folder() {
   std::error_code ec;
+  // One job per folder: the lock is taken before anything in the folder is read or written.
+  if (params_.folder_lock == nullptr) {
+    lock_ = &own_lock_.emplace(params_.output_dir, params_.shard_index, params_.shard_count);
+  } else {
+    lock_ = params_.folder_lock;
+    const JobFolderLock& lock = *params_.folder_lock;
+    if (std::filesystem::weakly_canonical(lock.dir(), ec) !=
+            std::filesystem::weakly_canonical(params_.output_dir, ec) ||
+        lock.shard_index() != params_.shard_index || lock.shard_count() != params_.shard_count)
+      throw Error(fmt::format("the folder lock held is for {} (shard {}/{}), not for {} (shard {}/{})",
+                              lock.dir().string(), lock.shard_index(), lock.shard_count(), params_.output_dir.string(),
+                              params_.shard_index, params_.shard_count));
+  }
   std::filesystem::create_directories(params_.output_dir, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", params_.output_dir.string(), ec.message()));
   manifest_ = job_manifest(slicer_, params_);
@@ -243,7 +335,7 @@ void JobRun::make_writers() {
   if (any_stack_)
     for (int index = 0; index < range_.total(); ++index)
       if (kept_[static_cast<std::size_t>(index)]) refeed_.push_back(index);
-  write_manifest(manifest_path_, manifest_);
+  save_manifest();
   // The colour-to-material sheet depends only on the scene and the settings: written first,
   // listed with the whole-job files when the job completes.
   write_material_sheet(params_.output_dir / sheet_name_, ctx.background_rgba,
@@ -305,33 +397,46 @@ void JobRun::record(int index, std::vector<std::string> written, std::optional<L
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_manifest_write_).count() >= params_.manifest_interval_seconds) {
     manifest_.sort_files();
-    write_manifest(manifest_path_, manifest_);
+    save_manifest();
     last_manifest_write_ = now;
   }
   if (progress_) progress_->on_layer_done(++done_, static_cast<int>(pending_.size()));
 }
 
+void JobRun::save_manifest() {
+  write_manifest(manifest_path_, manifest_);
+  manifest_written_ = true;
+  std::error_code ec;
+  const std::uintmax_t bytes = std::filesystem::file_size(manifest_path_, ec);
+  if (!ec && lock_ != nullptr) lock_->reserve_bytes(2 * bytes + 65536);  // no room: the job goes on without
+}
+
 void JobRun::mark_failed(const std::exception& e) noexcept {
+  if (!manifest_written_ || failure_recorded_) return;
+  failure_recorded_ = true;
   try {
     manifest_.status = JobStatus::kFailed;
     manifest_.message = e.what();
     manifest_.sort_files();
-    write_manifest(manifest_path_, manifest_);
   } catch (const std::exception&) {
+    return;
+  }
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    try {
+      write_manifest(manifest_path_, manifest_);
+      return;
+    } catch (const std::exception&) {
+      if (lock_ != nullptr) lock_->release_reserve();
+    }
   }
 }
 
 void JobRun::slice_layers() {
   stats_.threads = worker_count(params_.threads);
-  try {
-    // One layer per task: layers are independent, so any schedule gives the same files.
-    parallel_for_each(
-        pending_.size() + refeed_.size(), stats_.threads, [this](std::size_t t) { slice_one(t); },
-        [this] { return stop_requested() || failed_.load(); });
-  } catch (const std::exception& e) {
-    mark_failed(e);
-    throw;
-  }
+  // One layer per task: layers are independent, so any schedule gives the same files.
+  parallel_for_each(
+      pending_.size() + refeed_.size(), stats_.threads, [this](std::size_t t) { slice_one(t); },
+      [this] { return stop_requested() || failed_.load(); });
   manifest_.sort_files();
   std::sort(stats_.files.begin(), stats_.files.end());
   std::sort(stats_.layers.begin(), stats_.layers.end(),
@@ -342,20 +447,15 @@ void JobRun::slice_layers() {
 JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
   if (!stats_.interrupted) {
     // Files of the whole job belong to no single layer: the manifest lists them under layer 0.
-    try {
-      std::vector<std::string> whole_job = {sheet_name_};
-      for (const auto& w : writers_) {
-        const std::vector<std::string> names = w->finish();
-        whole_job.insert(whole_job.end(), names.begin(), names.end());
-      }
-      for (const std::string& name : whole_job) {
-        const FileDigest d = sha256_file(params_.output_dir / name);
-        manifest_.files.push_back({0, relative_name(name), d.bytes, d.sha256});
-        stats_.files.push_back(name);
-      }
-    } catch (const std::exception& e) {
-      mark_failed(e);
-      throw;
+    std::vector<std::string> whole_job = {sheet_name_};
+    for (const auto& w : writers_) {
+      const std::vector<std::string> names = w->finish();
+      whole_job.insert(whole_job.end(), names.begin(), names.end());
+    }
+    for (const std::string& name : whole_job) {
+      const FileDigest d = sha256_file(params_.output_dir / name);
+      manifest_.files.push_back({0, relative_name(name), d.bytes, d.sha256});
+      stats_.files.push_back(name);
     }
     manifest_.sort_files();
     std::sort(stats_.files.begin(), stats_.files.end());
@@ -365,6 +465,7 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
     manifest_.message = fmt::format("stopped after {} of {} layers; continue with --resume", done_, pending_.size());
   }
   write_manifest(manifest_path_, manifest_);
+  manifest_written_ = true;
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const std::string stats_name =
       params_.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", params_.shard_index, params_.shard_count)
@@ -381,9 +482,7 @@ JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSi
   check_job_settings(slicer, params);
   JobRun run(slicer, params, progress);
   run.open_folder();
-  run.make_writers();
-  run.slice_layers();
-  return run.finish(start);
+  return run.write(start);
 }
 
 }  // namespace trivox

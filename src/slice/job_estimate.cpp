@@ -69,7 +69,46 @@ std::uint64_t stats_json_bytes(const Slicer& slicer, const JobEstimate& e, int f
 
 }  // namespace
 
+namespace {
+
+// `message` with the estimate's scratch folder named as the output folder whose files the
+// samples stand for (the scratch folder's name is no path a user knows), and where the
+// samples were written, so that a failure is still traced to its place.
+std::string without_scratch(std::string message, const std::filesystem::path& scratch,
+                            const std::filesystem::path& output_dir) {
+  const std::string from = scratch.string();
+  if (from.empty() || message.find(from) == std::string::npos) return message;
+  for (std::size_t at = message.find(from); at != std::string::npos; at = message.find(from, at))
+    message.replace(at, from.size(), output_dir.string()), at += output_dir.string().size();
+  return fmt::format("{} (while the estimate wrote its sample layers under {})", message,
+                     scratch.parent_path().string());
+}
+
+JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const EstimateParams& ep,
+                            std::filesystem::path& scratch_out);
+
+}  // namespace
+
 JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const EstimateParams& ep) {
+  std::filesystem::path scratch;
+  try {
+    return estimate_job_in(slicer, params, ep, scratch);
+  } catch (const IoError& e) {
+    throw IoError(without_scratch(e.what(), scratch, params.output_dir));
+  } catch (const CancelledError&) {
+    throw;
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    if (without_scratch(e.what(), scratch, params.output_dir) == e.what()) throw;
+    throw Error(without_scratch(e.what(), scratch, params.output_dir));
+  }
+}
+
+namespace {
+
+JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const EstimateParams& ep,
+                            std::filesystem::path& scratch_out) {
   const SliceLayout& L = slicer.layout();
   check_job_settings(slicer, params);
   const JobManifest m = job_manifest(slicer, params);
@@ -98,6 +137,7 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   static std::atomic<int> counter{0};
   const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
                                         fmt::format("trivox-estimate-{}-{}", static_cast<long>(::getpid()), counter++);
+  scratch_out = scratch;
   struct Cleanup {
     std::filesystem::path dir;
     ~Cleanup() {
@@ -108,8 +148,8 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   std::error_code ec;
   std::filesystem::create_directories(scratch, ec);
   if (ec)
-    throw IoError(
-        fmt::format("{}: cannot create a scratch folder for the estimate: {}", scratch.string(), ec.message()));
+    throw IoError(fmt::format("{}: cannot create a scratch folder for the estimate there: {}",
+                              scratch.parent_path().string(), ec.message()));
   const OutputContext ctx = detail::job_output_context(slicer, params, scratch);
   std::vector<std::unique_ptr<LayerWriter>> writers;
   for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
@@ -170,6 +210,8 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
   e.seconds = per_layer * std::ceil(static_cast<double>(shard_model) / e.threads);
   return e;
 }
+
+}  // namespace
 
 std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir) {
   std::filesystem::path p = dir.empty() ? std::filesystem::path(".") : dir;

@@ -42,7 +42,9 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
 // True for a name AtomicFile gives its temporaries ("<name>.tmp-<digits>-<digits>").
 bool is_atomic_temporary_name(std::string_view file_name) noexcept;
 
-// Removes every AtomicFile temporary in `dir` and its subfolders; returns how many.
+// Removes every AtomicFile temporary in `dir` and its subfolders, except those of a process
+// that still runs on this machine (the pid in the name: another shard of the job writing into
+// the same folder); returns how many it removed.
 int remove_stale_temporaries(const std::filesystem::path& dir);
 
 }  // namespace trivox

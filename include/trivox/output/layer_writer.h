@@ -6,12 +6,11 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
-
-#include <optional>
 
 #include "trivox/output/png_io.h"
 #include "trivox/printer/printer_profile.h"
@@ -145,6 +144,16 @@ std::vector<std::string> layer_writer_names();
 // files, under a folder named after the format, when the job completes) rather than one
 // that writes files for every layer. Throws Error for an unknown name.
 bool is_stack_format(std::string_view format);
+// Whether `format` puts the materials' names into its file names ("bitmaps", "legacy").
+bool layer_writer_names_files_by_material(std::string_view format);
+
+// The longest text (bytes) the job puts into a file name from its settings or the scene: the
+// prefix, a material's name.
+inline constexpr std::size_t kMaxFileNamePartBytes = 100;
+// Why `text` cannot become part of an output file's name, or nullopt when it can: a name is
+// never a path, so it holds no '/', no '\\', no "..", no control character, and at most
+// kMaxFileNamePartBytes bytes; a file named with it then always lies in the output folder.
+std::optional<std::string> file_name_part_problem(std::string_view text);
 
 // Feeds one layer to a writer: write_grey_layer for one that takes the grey image, else
 // write_layer.

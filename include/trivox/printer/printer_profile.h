@@ -55,6 +55,9 @@ struct PrinterProfile {
   // The printer family the profile belongs to: "j750", "j850", "sl1", "sl1s"; empty for a
   // custom printer. The family's print modes (printer_family_modes) decide the layer warning.
   std::string family{};
+  // The print mode of a built-in J750/J850 profile and of a profile based on one ("High
+  // Speed"; printer_family_modes); empty otherwise.
+  std::string print_mode{};
   // The display of a masked-resin printer; none for the others.
   std::optional<MaskedDisplay> display{};
 
@@ -81,6 +84,13 @@ struct PrintMode {
 // The print modes of a family ("j750", "j850"), in a fixed order; empty for a family whose
 // printers take any layer height (the resin printers) and for an unknown family.
 std::span<const PrintMode> printer_family_modes(std::string_view family) noexcept;
+
+// GrabCAD Voxel Print prints at most this many model material colours in one job.
+inline constexpr int kVoxelPrintMaxMaterials = 6;
+// The most materials a Voxel Print stack or package (formats "voxelprint", "gcvf") may hold
+// on this profile, whatever its max_materials says: 6, or the fewer its print mode takes (3
+// in High Speed).
+int voxel_print_max_materials(const PrinterProfile& profile) noexcept;
 
 // A warning for a profile whose family has print modes none of which prints its layer
 // thickness (within half a micrometre): the printer would lay a stack of such layers at the

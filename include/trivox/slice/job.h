@@ -26,6 +26,8 @@
 
 namespace trivox {
 
+class JobFolderLock;  // job_lock.h
+
 // How the "gcvf" package is written where the public package writers differ
 // (docs/FORMATS.md, "GrabCAD Voxel Print package").
 struct GcvfJobOptions {
@@ -51,8 +53,10 @@ struct JobParams {
   std::optional<std::array<std::uint8_t, 4>> background_rgba;
   GcvfJobOptions gcvf;
   // GrabCAD Voxel Print needs at least this many layers; shorter jobs are padded with empty
-  // (background) layers after the model's.
-  int min_layers = 30;
+  // (background) layers after the model's. 0 to kMaxMinLayers.
+  int min_layers = kVoxelPrintMinLayers;
+  static constexpr int kVoxelPrintMinLayers = 30;
+  static constexpr int kMaxMinLayers = 1000;
   PngWriteParams png;
   // Model layers (0-based, within first..last) also written for a person to look at:
   // preview/layer_NNNNN.png, NNNNN the 1-based layer number, in opaque display colours with
@@ -74,6 +78,10 @@ struct JobParams {
   // How often (seconds) the manifest is rewritten while layers complete; 0 = after every
   // layer. A layer finished but not yet recorded is simply sliced again on resume.
   double manifest_interval_seconds = 1.0;
+  // The lock of the output folder (job_lock.h) when the caller took it before the job, e.g.
+  // to refuse a second job before reading the scene; it must be for output_dir and this
+  // shard. nullptr: run_slice_job takes the lock itself, and releases it when it returns.
+  JobFolderLock* folder_lock = nullptr;
 };
 
 struct JobStats {
@@ -98,7 +106,8 @@ class ProgressSink {
 // Slices and writes the layers, keeping the manifest up to date, then the colour-to-material
 // sheet materials.csv (output/material_sheet.h); writes stats.json last
 // (stats.shard-I-of-N.json for a shard). Throws trivox::Error for settings the printer cannot
-// take (more materials than its colour limit) and for a refused resume, IoError when the
+// take (more materials than its colour limit), for a refused resume and for a folder another
+// job is writing into (JobParams::folder_lock, job_lock.h), IoError when the
 // folder or a file cannot be written (the manifest is then marked failed, when it can be).
 // Returns with stats.interrupted set when JobParams::stop was raised.
 JobStats run_slice_job(const Slicer& slicer, const JobParams& params, ProgressSink* progress = nullptr);

@@ -1,0 +1,61 @@
+// One job per output folder (docs/CLI.md, "One job per folder"): an advisory lock file in
+// the folder, held while a job writes into it, so that a second job started into the same
+// folder is refused at once instead of mixing its files and its manifest with the first's.
+//
+// A whole job holds `.trivox.lock` exclusively. Shard I of a split job holds `.trivox.lock`
+// shared and `.trivox-shard-I.lock` exclusively, so that the shards of one job run at once
+// while a whole job, or a second copy of the same shard, is refused. The locks are flock(2)
+// locks: the kernel drops them when their process ends, however it ends, so a lock file
+// left behind by a killed job holds nothing and the next job takes it over. The file holds
+// one line naming its holder, `pid=<pid> host=<host> started=<UTC time>`, for the message
+// that refuses another job; it is removed when the job ends. While the job runs, its lock file
+// also holds a reserve of disk space for the manifest of a failure (reserve_bytes).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace trivox {
+
+class JobFolderLock {
+ public:
+  // Creates `dir` when it is missing and takes the job's locks in it, without waiting.
+  // Throws Error (an input error: the folder is taken) naming the folder and the process
+  // that holds it when another job holds a lock this one needs; IoError when the folder or
+  // the lock file cannot be created.
+  JobFolderLock(const std::filesystem::path& dir, int shard_index = 1, int shard_count = 1);
+  ~JobFolderLock();  // releases the locks and removes the lock files no other job holds
+  JobFolderLock(const JobFolderLock&) = delete;
+  JobFolderLock& operator=(const JobFolderLock&) = delete;
+
+  const std::filesystem::path& dir() const noexcept { return dir_; }
+  int shard_index() const noexcept { return shard_index_; }
+  int shard_count() const noexcept { return shard_count_; }
+  // The holder line of a lock file this job took over from a job that ended without removing
+  // it (killed, or a power cut); nullopt when the lock files were absent or empty.
+  const std::optional<std::string>& taken_over_from() const noexcept { return taken_over_from_; }
+
+  // Disk space held for the manifest that records a failure: a full disk would leave no room
+  // to write it. The job's own lock file (the shard's for a shard) is extended to hold
+  // `bytes` more than its line, never shrinking; false when the file system has no room (the
+  // job goes on without it). release_reserve() gives the space back, for that last write.
+  bool reserve_bytes(std::uint64_t bytes);
+  void release_reserve() noexcept;
+
+ private:
+  std::filesystem::path dir_;
+  int shard_index_ = 1, shard_count_ = 1;
+  int folder_fd_ = -1;  // .trivox.lock
+  int shard_fd_ = -1;   // .trivox-shard-I.lock, shards only
+  std::optional<std::string> taken_over_from_;
+  std::uint64_t line_bytes_ = 0;  // the holder line at the start of the job's own lock file
+  std::uint64_t reserved_ = 0;    // bytes held after it
+};
+
+// The lock files' names: ".trivox.lock", and ".trivox-shard-I.lock" for shard I.
+std::string job_lock_file_name();
+std::string shard_lock_file_name(int shard_index);
+
+}  // namespace trivox

@@ -1,0 +1,111 @@
+// One job per output folder (docs/CLI.md, "One job per folder"): a job into a folder another
+// job holds is refused at once (exit 3, naming the folder and the other process); a lock
+// left by a killed job is taken over; the shards of one job run at once; the lock files are
+// gone when a job ends. The other job is this test process, holding the lock through the
+// library (JobFolderLock) as a running `trivox slice` does.
+#include <unistd.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "cli_run.h"
+#include "cli_small_scene.h"
+#include "trivox/error.h"
+#include "trivox/slice/job_lock.h"
+
+namespace trivox::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CliFolderLock : public ::testing::Test {
+ protected:
+  void SetUp() override { write_text(dir_.path() / "box.json", small_box_scene()); }
+  CliResult slice(const std::string& options) {
+    return run_cli(fmt::format("slice {} -o {} --layers 1:3 --min-layers 0 {}", shell_quote(dir_.path() / "box.json"),
+                               shell_quote(out()), options));
+  }
+  fs::path out() const { return dir_.path() / "out"; }
+  bool any_lock_file() const {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(out(), ec))
+      if (entry.path().filename().string().ends_with(".lock")) return true;
+    return false;
+  }
+  ScratchDir dir_;
+};
+
+TEST_F(CliFolderLock, ASecondJobIntoAHeldFolderIsRefusedAtOnceNamingTheFolderAndTheProcess) {
+  std::optional<JobFolderLock> held(std::in_place, out());
+  for (const char* options : {"-q", "-q --resume", "-q --format bitmaps,gcvf"}) {
+    const auto start = std::chrono::steady_clock::now();
+    const CliResult r = slice(options);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_EQ(r.exit_code, 3) << options << ": " << r.err;
+    EXPECT_NE(r.err.find(out().string() + ": another trivox job is writing into this folder"), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(fmt::format("process {} on host", ::getpid())), std::string::npos) << r.err;
+    EXPECT_LT(seconds, 5.0) << "refused only after " << seconds << " s";
+  }
+  EXPECT_FALSE(fs::exists(out() / "manifest.json"));  // nothing of the refused jobs
+  held.reset();
+  EXPECT_FALSE(fs::exists(out() / ".trivox.lock"));
+  const CliResult r = slice("-q");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(out() / "manifest.json"));
+  EXPECT_FALSE(any_lock_file()) << "the job left its lock file";
+  // --resume of the finished job takes the lock again and releases it.
+  EXPECT_EQ(slice("-q --resume").exit_code, 0);
+  EXPECT_FALSE(any_lock_file());
+}
+
+TEST_F(CliFolderLock, ALockLeftByAKilledJobIsTakenOver) {
+  fs::create_directories(out());
+  // What a killed job leaves: the file with its line, but no process holding the lock.
+  write_text(out() / ".trivox.lock", "pid=999999 host=gone started=2026-01-01T00:00:00Z\n");
+  const CliResult r = slice("");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("took over the lock of a job that ended without releasing it (pid=999999"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(any_lock_file());
+  // A shard's lock too.
+  fs::remove_all(out());
+  fs::create_directories(out());
+  write_text(out() / ".trivox-shard-2.lock", "pid=999999 host=gone started=2026-01-01T00:00:00Z\n");
+  EXPECT_EQ(slice("-q --shard 2/2").exit_code, 0);
+  EXPECT_FALSE(any_lock_file());
+}
+
+TEST_F(CliFolderLock, TheShardsOfOneJobRunAtOnceButNotTwiceNorBesideAWholeJob) {
+  std::optional<JobFolderLock> shard_one(std::in_place, out(), 1, 2);  // shard 1/2 running
+  const CliResult two = slice("-q --shard 2/2");
+  EXPECT_EQ(two.exit_code, 0) << two.err;
+  // Resumed beside the running shard: its file in progress stays, one a killed job left goes.
+  const fs::path in_progress = out() / fmt::format("slice_00001.png.tmp-{}-3", ::getpid());
+  const fs::path left = out() / "slice_00003.png.tmp-999999-3";
+  write_text(in_progress, "partial");
+  write_text(left, "partial");
+  const CliResult resumed = slice("-q --shard 2/2 --resume");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.err;
+  EXPECT_TRUE(fs::exists(in_progress)) << "a resumed shard removed another shard's file in progress";
+  EXPECT_FALSE(fs::exists(left));
+  fs::remove(in_progress);
+  const CliResult one_again = slice("-q --shard 1/2");
+  EXPECT_EQ(one_again.exit_code, 3) << one_again.err;
+  EXPECT_NE(one_again.err.find(".trivox-shard-1.lock"), std::string::npos) << one_again.err;
+  const CliResult whole = slice("-q");
+  EXPECT_EQ(whole.exit_code, 3) << whole.err;
+  EXPECT_NE(whole.err.find(fmt::format("shard 1 (process {} on host", ::getpid())), std::string::npos) << whole.err;
+  shard_one.reset();
+  EXPECT_EQ(slice("-q --shard 1/2").exit_code, 0);
+  EXPECT_FALSE(any_lock_file());
+  const CliResult merged = run_cli(fmt::format("merge {}", shell_quote(out())));
+  EXPECT_EQ(merged.exit_code, 0) << merged.err;
+}
+
+}  // namespace
+}  // namespace trivox::test

@@ -1,0 +1,87 @@
+// `trivox --version` and `trivox COMMAND --version` (docs/CLI.md, "--version"): the version,
+// the git commit, the build type, the compiler and the version of every library it links,
+// on standard output with exit 0, whatever else the command line holds.
+#include <png.h>
+
+#include <map>
+#include <regex>
+#include <sstream>
+#include <string>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include "cli_run.h"
+#include "trivox/version.h"
+
+namespace trivox::test {
+namespace {
+
+struct VersionReport {
+  std::map<std::string, std::string> fields;     // "commit" -> "...", ...
+  std::map<std::string, std::string> libraries;  // "libpng" -> "1.6.39", ...
+  std::string first_line;
+};
+
+VersionReport parse_report(const std::string& text) {
+  VersionReport r;
+  std::istringstream in(text);
+  std::getline(in, r.first_line);
+  bool in_libraries = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "libraries:") {
+      in_libraries = true;
+    } else if (in_libraries && line.starts_with("  ")) {
+      const auto space = line.find(' ', 2);
+      r.libraries[line.substr(2, space - 2)] = space == std::string::npos ? "" : line.substr(space + 1);
+    } else if (const auto colon = line.find(": "); colon != std::string::npos) {
+      r.fields[line.substr(0, colon)] = line.substr(colon + 2);
+    } else {
+      ADD_FAILURE() << "unexpected line '" << line << "'";
+    }
+  }
+  return r;
+}
+
+void expect_full_report(const CliResult& run, const std::string& what) {
+  EXPECT_EQ(run.exit_code, 0) << what << ": " << run.err;
+  EXPECT_EQ(run.err, "") << what;
+  VersionReport r = parse_report(run.out);
+  EXPECT_EQ(r.first_line, "trivox " + std::string(version())) << what;
+  ASSERT_TRUE(r.fields.count("commit")) << what << ":\n" << run.out;
+  const std::string& commit = r.fields.at("commit");
+  EXPECT_TRUE(commit == "unknown" || std::regex_match(commit, std::regex("[0-9a-f]{40}"))) << commit;
+  EXPECT_EQ(r.fields.count("build type"), 1u) << what;
+  EXPECT_FALSE(r.fields["build type"].empty());
+  EXPECT_TRUE(std::regex_match(r.fields["compiler"], std::regex("(GNU|Clang|AppleClang|MSVC|Intel\\w*) [0-9][0-9.]*")))
+      << r.fields["compiler"];
+  for (const char* name :
+       {"CLI11", "fmt", "libpng", "libtiff", "muParser", "nlohmann-json", "oneTBB", "OpenSSL", "pugixml", "zlib"}) {
+    ASSERT_TRUE(r.libraries.count(name)) << what << ": no " << name << " in\n" << run.out;
+    EXPECT_TRUE(std::regex_search(r.libraries.at(name), std::regex("^[0-9]+\\.[0-9]+"))) << name;
+  }
+  // The version of the headers the program was compiled against, as this test sees them.
+  EXPECT_TRUE(r.libraries["libpng"].starts_with(PNG_LIBPNG_VER_STRING)) << r.libraries["libpng"];
+  EXPECT_TRUE(r.libraries["fmt"].starts_with(fmt::format("{}.{}.", FMT_VERSION / 10000, FMT_VERSION / 100 % 100)))
+      << r.libraries["fmt"];
+}
+
+TEST(CliVersion, TheProgramReportsVersionCommitBuildCompilerAndLibraries) {
+  expect_full_report(run_cli("--version"), "trivox --version");
+}
+
+TEST(CliVersion, EverySubcommandTakesVersionEvenWithoutItsRequiredArguments) {
+  for (const char* command : {"init", "slice", "validate", "merge", "verify", "info", "probe", "build"})
+    expect_full_report(run_cli(fmt::format("{} --version", command)), fmt::format("trivox {} --version", command));
+  // With other options around it, too: nothing is read or written.
+  expect_full_report(run_cli("slice missing.json -o /nonexistent/out --version"), "slice ... --version");
+}
+
+TEST(CliVersion, TheHelpListsTheFlag) {
+  const CliResult r = run_cli("slice --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("--version"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace trivox::test
