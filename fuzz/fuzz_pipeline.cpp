@@ -45,7 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (char& ch : refusal)
       if (ch == '\t' || ch == '\n') ch = ' ';
     std::fprintf(log_file, "%s\t%.0f\t%.4f\t%.2f\t%.2f\t%s\n", kind_name(o.kind), o.pixels, o.seconds,
-                 o.heap_grown_bytes / 1e6, o.estimate_bytes / 1e6, refusal.c_str());
+                 o.heap_grown_bytes < 0 ? -1.0 : o.heap_grown_bytes / 1e6,
+                 o.estimate_bytes < 0 ? -1.0 : o.estimate_bytes / 1e6, refusal.c_str());
     std::fflush(log_file);
   }
   return 0;

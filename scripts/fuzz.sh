@@ -52,6 +52,9 @@ stage_seeds() {
   esac
 }
 
+# The pipeline target's outcome per input (fuzz_pipeline.cpp), summarised at the end.
+export TRIVOX_FUZZ_PIPELINE_LOG="$PWD/build/fuzz/pipeline_outcomes.tsv"
+rm -f "$TRIVOX_FUZZ_PIPELINE_LOG"
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
 export ASAN_OPTIONS="detect_leaks=1:allocator_may_return_null=0"
 summary=build/fuzz/summary.tsv
@@ -108,4 +111,12 @@ for target in "${targets[@]}"; do
 done
 
 awk -F"\t" '{ printf "%-12s %8s %12s %12s %9s\n", $1, $2, $3, $4, $5 }' "$summary"
+# Columns: outcome, pixels, seconds, heap growth (MB), the job's own estimate (MB), refusal.
+if [ -s "$TRIVOX_FUZZ_PIPELINE_LOG" ]; then
+  awk -F"\t" '{ n[$1]++; if ($3 > slow) { slow = $3; slow_px = $2 }
+         if ($4 >= 0) { heap++; if ($4 > big) { big = $4; big_est = $5 }
+                        if ($5 >= 16 && $4 / $5 > worst) worst = $4 / $5 } }
+       END { printf "pipeline jobs: %d sliced, %d refused, %d too large; slowest %.2f s (%d px); heap measured for %d: largest growth %.1f MB (estimate %.1f MB), largest growth over estimate where that is 16 MB or more: %.2f\n",
+                    n["sliced"], n["refused"], n["too-large"], slow, slow_px, heap, big, big_est, worst }' "$TRIVOX_FUZZ_PIPELINE_LOG"
+fi
 exit "$failed"

@@ -42,11 +42,10 @@ CliResult slice(const fs::path& scene, const fs::path& out, const std::string& o
 }
 
 TEST(CliEmptyResult, AnObjectSmallerThanTwoPixelsIsRefusedBeforeAnythingIsWritten) {
-  const std::vector<std::array<double, 3>> same(8, {1, 2, 3});
   const struct {
     const char* name;
     std::string scene;
-  } cases[] = {{"4nm.json", cell_scene(box_corners(4e-6))}, {"same.json", cell_scene(same)}};
+  } cases[] = {{"4nm.json", cell_scene(box_corners(4e-6))}, {"4um.json", cell_scene(box_corners(4e-3))}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.name);
     ScratchDir dir;
@@ -67,11 +66,11 @@ TEST(CliEmptyResult, AnObjectSmallerThanTwoPixelsIsRefusedBeforeAnythingIsWritte
 
 TEST(CliEmptyResult, AStackWithoutAVoxelOfTheObjectEndsWithExitSixAfterWritingIt) {
   ScratchDir dir;
-  // A slanted sheet of no thickness: the bitmap is 95 x 18 px, but no pixel centre lies on it.
+  // A slanted slab a nanometre thick: the bitmap is 95 x 18 px, but no pixel centre lies in it.
   std::vector<std::array<double, 3>> sheet;
   for (int k = 0; k < 2; ++k)
     for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i) sheet.push_back({4.0 * i, 1.48 * i + 0.0123, 4.0 * k});
+      for (int i = 0; i < 2; ++i) sheet.push_back({4.0 * i, 1.48 * i + 0.0123 + 1e-6 * j, 4.0 * k});
   write_text(dir.path() / "sheet.json", cell_scene(sheet));
   const fs::path out = dir.path() / "out";
   const CliResult r = slice(dir.path() / "sheet.json", out, "--layers 1:3 --min-layers 0");
@@ -92,6 +91,19 @@ TEST(CliEmptyResult, AStackWithoutAVoxelOfTheObjectEndsWithExitSixAfterWritingIt
   const CliResult shard =
       slice(dir.path() / "sheet.json", dir.path() / "shard", "--layers 1:3 --min-layers 0 --shard 1/2");
   EXPECT_EQ(shard.exit_code, 0) << shard.err;
+}
+
+// Coinciding control points leave a cell without interior: an input error, named when the
+// scene is read (no --allow-empty accepts it).
+TEST(CliEmptyResult, ACellWhoseControlPointsCoincideIsAnInputError) {
+  ScratchDir dir;
+  write_text(dir.path() / "same.json", cell_scene(std::vector<std::array<double, 3>>(8, {1, 2, 3})));
+  for (const char* options : {"", "--allow-empty"}) {
+    const CliResult r = slice(dir.path() / "same.json", dir.path() / "out", options);
+    EXPECT_EQ(r.exit_code, 3) << r.err;
+    EXPECT_NE(r.err.find("cell 'c' has no interior"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(dir.path() / "out"));
+  }
 }
 
 TEST(CliEmptyResult, AModelFarFromTheOriginIsAnInputErrorFirst) {
