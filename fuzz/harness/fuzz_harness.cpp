@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <chrono>
 #include <fstream>
 #include <sstream>
@@ -33,7 +34,13 @@
 #endif
 
 #ifdef TRIVOX_FUZZ_HEAP
-#include <sanitizer/allocator_interface.h>
+// The sanitizer runtime's allocator hooks (declared here: GCC ships the runtime that exports
+// them but not clang's sanitizer/allocator_interface.h).
+extern "C" {
+std::size_t __sanitizer_get_allocated_size(const volatile void* p);
+int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*, std::size_t),
+                                              void (*free_hook)(const volatile void*));
+}
 
 namespace {
 std::atomic<long long> g_heap_bytes{0}, g_heap_peak{0};
@@ -45,7 +52,7 @@ void on_malloc(const volatile void*, std::size_t size) {
   }
 }
 void on_free(const volatile void* p) {
-  g_heap_bytes.fetch_sub(static_cast<long long>(__sanitizer_get_allocated_size(const_cast<const void*>(p))));
+  g_heap_bytes.fetch_sub(static_cast<long long>(__sanitizer_get_allocated_size(p)));
 }
 const bool g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free) != 0;
 }  // namespace
