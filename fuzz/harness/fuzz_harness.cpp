@@ -261,8 +261,11 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     jp.last_layer = std::min(L.num_layers - 1, jp.first_layer + job.layer_count - 1);
     jp.min_layers = 0;
     jp.threads = job.threads;
-    const double pixels =
-        static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1) * order_product / 64.0;
+    // Without tracing ("none", the reference strategy) every pixel near a cell is a global
+    // solve, about a hundred times a traced pixel's cost: such jobs count 64 times.
+    const double strategy_cost = sp.tracing == TracingStrategy::kNone ? 64.0 : 1.0;
+    const double pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1) *
+                          order_product / 64.0 * strategy_cost;
     outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
     if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
     const std::uint64_t resident = resident_bytes_now();

@@ -50,7 +50,7 @@ void run_expression(std::span<const std::uint8_t> data);
 // into `work_dir`/job in every format asked. It must end in a result or a documented error;
 // a completed job must pass verify_output; and in builds with AddressSanitizer the heap the
 // job itself grows by must stay within 1.5 times the job's own memory estimate plus 64 MB.
-// Jobs of more than 1e6 pixels (weighted by the orders) are not sliced, and models whose
+// Jobs of more than 1e6 pixels (weighted by the orders, and 64 times without tracing) are not sliced, and models whose
 // faces span more than 1e6 pixels not prepared: the fuzzer's time limit, 10 s, holds for
 // those within.
 struct PipelineOutcome {

@@ -3,8 +3,10 @@
 // on standard output with exit 0, whatever else the command line holds.
 #include <png.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cstddef>
 #include <map>
-#include <regex>
 #include <sstream>
 #include <string>
 
@@ -43,6 +45,33 @@ VersionReport parse_report(const std::string& text) {
   return r;
 }
 
+// (No std::regex: GCC 12 warns inside it under the sanitizer build's -Werror.)
+bool is_commit_hash(const std::string& s) {
+  return s.size() == 40 && std::all_of(s.begin(), s.end(), [](char c) {
+           return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f');
+         });
+}
+
+// "MAJOR.MINOR..." with digits on both sides of the first dot.
+bool starts_with_version(const std::string& s) {
+  const auto dot = s.find('.');
+  if (dot == std::string::npos || dot == 0 || dot + 1 >= s.size()) return false;
+  return std::all_of(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(dot),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; }) &&
+         std::isdigit(static_cast<unsigned char>(s[dot + 1]));
+}
+
+// "<compiler id> <version>", the id one of CMake's.
+bool is_compiler(const std::string& s) {
+  const auto space = s.find(' ');
+  if (space == std::string::npos) return false;
+  const std::string id = s.substr(0, space), v = s.substr(space + 1);
+  const bool known = id == "GNU" || id == "Clang" || id == "AppleClang" || id == "MSVC" || id.starts_with("Intel");
+  return known && !v.empty() && std::isdigit(static_cast<unsigned char>(v[0])) &&
+         std::all_of(v.begin(), v.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '.'; });
+}
+
 void expect_full_report(const CliResult& run, const std::string& what) {
   EXPECT_EQ(run.exit_code, 0) << what << ": " << run.err;
   EXPECT_EQ(run.err, "") << what;
@@ -50,15 +79,14 @@ void expect_full_report(const CliResult& run, const std::string& what) {
   EXPECT_EQ(r.first_line, "trivox " + std::string(version())) << what;
   ASSERT_TRUE(r.fields.count("commit")) << what << ":\n" << run.out;
   const std::string& commit = r.fields.at("commit");
-  EXPECT_TRUE(commit == "unknown" || std::regex_match(commit, std::regex("[0-9a-f]{40}"))) << commit;
+  EXPECT_TRUE(commit == "unknown" || is_commit_hash(commit)) << commit;
   EXPECT_EQ(r.fields.count("build type"), 1u) << what;
   EXPECT_FALSE(r.fields["build type"].empty());
-  EXPECT_TRUE(std::regex_match(r.fields["compiler"], std::regex("(GNU|Clang|AppleClang|MSVC|Intel\\w*) [0-9][0-9.]*")))
-      << r.fields["compiler"];
+  EXPECT_TRUE(is_compiler(r.fields["compiler"])) << r.fields["compiler"];
   for (const char* name :
        {"CLI11", "fmt", "libpng", "libtiff", "muParser", "nlohmann-json", "oneTBB", "OpenSSL", "pugixml", "zlib"}) {
     ASSERT_TRUE(r.libraries.count(name)) << what << ": no " << name << " in\n" << run.out;
-    EXPECT_TRUE(std::regex_search(r.libraries.at(name), std::regex("^[0-9]+\\.[0-9]+"))) << name;
+    EXPECT_TRUE(starts_with_version(r.libraries.at(name))) << name << ": " << r.libraries.at(name);
   }
   // The version of the headers the program was compiled against, as this test sees them.
   EXPECT_TRUE(r.libraries["libpng"].starts_with(PNG_LIBPNG_VER_STRING)) << r.libraries["libpng"];
