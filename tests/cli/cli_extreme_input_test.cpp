@@ -142,8 +142,8 @@ TEST(CliExtremeInput, CtrlCDuringTheSetUpEndsTheProgramPromptly) {
   // The signal after 1 s, well inside the set-up (several seconds, and minutes of slicing
   // after it).
   const auto start = std::chrono::steady_clock::now();
-  const CliResult r = run_cli(fmt::format("--preserve-status -s INT 1 {} slice {} -o {} -q", shell_quote(cli_path()),
-                                          shell_quote(scene), shell_quote(out)),
+  const CliResult r = run_cli(fmt::format("--foreground --preserve-status -s INT 1 {} slice {} -o {} -q",
+                                          shell_quote(cli_path()), shell_quote(scene), shell_quote(out)),
                               "", "", "timeout");
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   EXPECT_EQ(r.exit_code, 130) << r.err;

@@ -70,9 +70,13 @@ TEST_F(CliJob, KilledOrInterruptedAtRandomMomentsThenResumedIsByteIdentical) {
     const fs::path out = dir.path() / "out";
     const bool gentle = trial % 2 == 1;  // SIGINT (Ctrl-C) or SIGKILL
     const double after_s = std::uniform_real_distribution<double>(0.05, 0.8)(rng);
-    const CliResult killed = run_cli(fmt::format("--preserve-status -s {} {:.3f} {} {}", gentle ? "INT" : "KILL",
-                                                 after_s, shell_quote(cli_path()), slice_args(out)),
-                                     "", "", "timeout");
+    const CliResult killed =
+        run_cli(fmt::format("--foreground --preserve-status -s {} {:.3f} {} {}", gentle ? "INT" : "KILL", after_s,
+                            shell_quote(cli_path()), slice_args(out)),
+                "", "", "timeout");
+    // --foreground: timeout signals the program once. Without it, timeout also signals its
+    // whole process group, so a second SIGINT could follow the first, and the program's
+    // handler is reset after one Ctrl-C (a second one ends it at once, by design).
     // A signal that arrives before the program installed its handler (while it starts up)
     // ends it before any output exists; once a manifest exists, SIGINT must end cleanly.
     if (gentle && killed.exit_code != 0 && fs::exists(out / "manifest.json")) {
