@@ -70,6 +70,13 @@ py::dict profile_dict(const PrinterProfile& p) {
   return d;
 }
 
+// A model's text in one of the formats the library writes (to_itd, to_g2, to_gismo_xml).
+std::string model_text(const py::handle& items, ModelFormat format) {
+  std::ostringstream out;
+  write_model(out, as_model(items), format);
+  return out.str();
+}
+
 }  // namespace
 
 void bind_model(py::module_& m) {
@@ -126,37 +133,17 @@ void bind_model(py::module_& m) {
   m.def("read_itd", &read_itd, py::arg("text"), py::arg("source") = "<string>", "Parses IRIT .itd text.");
   m.def("read_gismo_xml", &read_gismo_xml, py::arg("text"), py::arg("source") = "<string>", "Parses G+Smo XML text.");
   m.def(
-      "to_itd",
-      [](const py::handle& items) {
-        const Model model = as_model(items);
-        std::ostringstream out;
-        write_itd(out, model);
-        return out.str();
-      },
-      py::arg("model"),
+      "to_itd", [](const py::handle& items) { return model_text(items, ModelFormat::kItd); }, py::arg("model"),
       "IRIT .itd text of a Model or a list of Spline, Volume or Patch objects (17 significant digits: reading it "
       "back gives the same doubles).");
   m.def("read_g2", &read_g2, py::arg("text"), py::arg("source") = "<string>", "Parses GoTools .g2 text.");
   m.def(
-      "to_g2",
-      [](const py::handle& items) {
-        const Model model = as_model(items);
-        std::ostringstream out;
-        write_g2(out, model);
-        return out.str();
-      },
-      py::arg("model"),
+      "to_g2", [](const py::handle& items) { return model_text(items, ModelFormat::kG2); }, py::arg("model"),
       "GoTools .g2 text of a Model or a list of Spline, Volume or Patch objects (SplineCurve, SplineSurface, "
       "SplineVolume; 17 significant digits, rational points homogeneous so that they read back to the same "
       "doubles).");
   m.def(
-      "to_gismo_xml",
-      [](const py::handle& items) {
-        const Model model = as_model(items);
-        std::ostringstream out;
-        write_gismo_xml(out, model);
-        return out.str();
-      },
+      "to_gismo_xml", [](const py::handle& items) { return model_text(items, ModelFormat::kGismoXml); },
       py::arg("model"),
       "G+Smo XML text of a Model or a list of Spline, Volume or Patch objects: a <Geometry> per patch and, when "
       "all have the same number of parameters, a <MultiPatch> with the interfaces found from shared faces; "
