@@ -11,7 +11,7 @@
 #include "scanline.h"
 #include "trivox/error.h"
 #include "trivox/inverse/invert.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox::detail {
 

@@ -13,7 +13,7 @@
 #include "coverage.h"
 #include "slicer_parts.h"
 #include "trivox/error.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 
