@@ -373,18 +373,28 @@ double ExpressionTree::eval(int index, const std::array<double, kExpressionVaria
 // A text that names a subtree: equal texts, equal values at every point.
 std::string ExpressionTree::key(int index) const {
   const Node& n = nodes_[static_cast<std::size_t>(index)];
-  std::string k = "(" + std::to_string(static_cast<int>(n.op));
+  // Appended piece by piece: `"(" + std::to_string(...)` makes GCC 12 warn of an overlapping
+  // copy (-Wrestrict) that cannot happen.
+  std::string k = "(";
+  k += std::to_string(static_cast<int>(n.op));
   if (n.op == Op::kConst) {
     char bits[32];
     std::snprintf(bits, sizeof bits, "%a", n.value);
-    k += std::string(" ") + bits;
+    k += ' ';
+    k += bits;
   } else if (n.op == Op::kVar) {
-    k += " v" + std::to_string(n.var);
+    k += " v";
+    k += std::to_string(n.var);
   } else if (n.op == Op::kFunc) {
-    k += " f" + std::to_string(static_cast<int>(n.func));
+    k += " f";
+    k += std::to_string(static_cast<int>(n.func));
   }
-  for (int a : n.args) k += " " + key(a);
-  return k + ")";
+  for (int a : n.args) {
+    k += ' ';
+    k += key(a);
+  }
+  k += ')';
+  return k;
 }
 
 }  // namespace trivox::detail
