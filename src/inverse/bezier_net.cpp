@@ -1,6 +1,6 @@
 #include "bezier_net.h"
 
-#include "trivox/spline/homogeneous.h"
+#include "trivox/spline/detail/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 
 #if defined(__FMA__) && defined(__AVX__)
 #include <immintrin.h>

@@ -8,8 +8,8 @@
 #include <cstring>
 
 #include "trivox/math.h"
-#include "trivox/spline/basis.h"
-#include "trivox/spline/homogeneous.h"
+#include "trivox/spline/detail/basis.h"
+#include "trivox/spline/detail/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 namespace trivox::detail {
