@@ -12,7 +12,7 @@ and the inside pixels each found, and fails (exit 1) when the totals differ by m
     bench/mesh_slicer_compare.py [--trivox build/release/bin/trivox]
         [--outline-stl build/release/bench/outline_stl] [--prusa-slicer prusa-slicer]
         [--runs 3] [--threads 0] [--tolerance-mm T] [--also-tolerance-mm T2 ...]
-        [--agree 1e-5] [--scale S] [--work DIR]
+        [--agree 1e-5] [--scale S] [--phases] [--work DIR]
 
 Without prusa-slicer on the PATH (Debian's package `prusa-slicer`) or without ../shared/data
 it prints why and exits 0.
@@ -55,10 +55,17 @@ distance from the true surface and the rasterizers' rules can be told apart. tri
 run on its first layer alone (empty: below the model) to measure its set-up (reading the
 scene, building the volume, its bounds and its outline mesh), reported beside the
 per-layer figures.
+
+Where the time goes: trivox's layers by the times stats.json gives each (inverse, material,
+dithering, the rest); with --phases PrusaSlicer is run once more and the CPU time it has
+used is read from /proc each time its progress line names a new step (reading the mesh,
+slicing, merging the slices, rasterizing and writing the PNGs, the archive).
 """
 import argparse
 import json
 import os
+import pty
+import re
 import shutil
 import statistics
 import struct
@@ -157,6 +164,42 @@ def timed(cmd, log):
     return usage.ru_utime + usage.ru_stime, wall, usage.ru_maxrss / 1024
 
 
+def proc_cpu_seconds(pid):
+    """User + system time so far of a running process, all its threads (/proc/PID/stat)."""
+    with open(f"/proc/{pid}/stat", encoding="ascii") as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
+def prusa_phases(cmd):
+    """Runs PrusaSlicer once, reading its progress lines ("55% => Rasterizing layers") as it
+    writes them (through a terminal, so that they are not buffered) and the CPU time it has
+    used when each new step begins; returns [(step, CPU seconds spent in it)]."""
+    master, slave = pty.openpty()
+    proc = subprocess.Popen(cmd, stdout=slave, stderr=slave)
+    os.close(slave)
+    steps, pending = [("reading the mesh and the settings", 0.0)], b""
+    while True:
+        try:
+            chunk = os.read(master, 65536)
+        except OSError:  # the terminal closes when the program ends
+            break
+        if not chunk:
+            break
+        cpu = proc_cpu_seconds(proc.pid)
+        *lines, pending = (pending + chunk).split(b"\n")
+        for line in lines:
+            m = re.match(r"\s*\d+% => (.*)", line.decode(errors="replace").strip())
+            if m and m.group(1) != steps[-1][0]:
+                steps.append((m.group(1), cpu))
+    _, status, usage = os.wait4(proc.pid, 0)
+    os.close(master)
+    if os.waitstatus_to_exitcode(status) != 0:
+        sys.exit(f"mesh_slicer_compare: {' '.join(cmd)} failed")
+    steps.append(("end", usage.ru_utime + usage.ru_stime))
+    return [(steps[i][0], steps[i + 1][1] - steps[i][1]) for i in range(len(steps) - 1)]
+
+
 def png_lit_pixels(data):
     """Nonzero pixels of an 8-bit greyscale PNG whose rows are unfiltered (PrusaSlicer's)."""
     if data[:8] != b"\x89PNG\r\n\x1a\n":
@@ -221,6 +264,9 @@ def main() -> int:
                     help="largest relative difference of the inside pixel totals")
     ap.add_argument("--scale", type=float, default=None,
                     help="the duck's placement scale (default: the scene's, 45; smaller for a quick check)")
+    ap.add_argument("--phases", action="store_true",
+                    help="then run PrusaSlicer once more on the first mesh and report the CPU time of each "
+                         "of its steps")
     ap.add_argument("--work", default=None, help="scratch folder (default: a temporary one, removed)")
     args = ap.parse_args()
 
@@ -264,7 +310,7 @@ def main() -> int:
                                            os.path.join(m["out"], "duck.sl1"), m["stl"]]))
     # trivox on its first layer alone (empty, below the model): its set-up.
     jobs.append(("setup", setup_out, [args.trivox, "slice", scene, "-o", setup_out, "-q", "-j",
-                                      str(args.threads), "--layers", "1:1", "--min-layers", "0"]))
+                                      str(args.threads), "--layers", "1:1", "--min-layers", "0", "--allow-empty"]))
     runs = {name: [] for name, _, _ in jobs}
     for r in range(args.runs):
         # Alternating, so that a change of the machine's load falls on every job alike.
@@ -316,6 +362,24 @@ def main() -> int:
               f"{ps - mesh:+d}; largest difference in one layer: PrusaSlicer against the mesh's centres "
               f"{max(abs(a - b) for a, b in zip(m['ps_layers'], m['mesh_pixels_inside_per_layer']))}, "
               f"against trivox {max(abs(a - b) for a, b in zip(m['ps_layers'], tv_layers))}")
+
+    # Where trivox's layers spend their time: each layer's times in stats.json, summed (time
+    # on the worker's clock, so on a loaded machine waiting counts too; the shares hold).
+    sums = {k: sum(layer[k] for layer in stats["layers"])
+            for k in ("seconds", "seconds_inverse", "seconds_material", "seconds_dither")}
+    rest = sums["seconds"] - sums["seconds_inverse"] - sums["seconds_material"] - sums["seconds_dither"]
+    print(f"\ntrivox's layers (stats.json, shares of the layers' time): inverse "
+          f"{100 * sums['seconds_inverse'] / sums['seconds']:.0f} %, material "
+          f"{100 * sums['seconds_material'] / sums['seconds']:.0f} %, dithering "
+          f"{100 * sums['seconds_dither'] / sums['seconds']:.0f} %, the rest {100 * rest / sums['seconds']:.0f} %")
+    if args.phases:
+        print(f"\nPrusaSlicer's steps, CPU seconds ({meshes[0]['triangles'] / 1e6:.2f} M triangles, one run):")
+        out = meshes[0]["out"]
+        shutil.rmtree(out, ignore_errors=True)
+        os.makedirs(out)
+        for step, seconds in prusa_phases(jobs[1][2]):
+            if seconds > 0:  # the steps turned off (supports, pad, hollowing) take none
+                print(f"- {'writing the archive' if step == 'Slicing done' else step}: {seconds:.2f}")
     if not args.work:
         shutil.rmtree(work, ignore_errors=True)
     rel = abs(sum(meshes[0]["ps_layers"]) - tv) / tv

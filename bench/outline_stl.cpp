@@ -68,8 +68,12 @@ std::int64_t frame_budget(const SliceLayout& l) {
 
 // Orients the triangles of a closed mesh consistently (two triangles sharing an edge run it
 // in opposite directions), each connected part so that it encloses a positive volume. Returns
-// the edges that are not shared by exactly two triangles (0 for a closed manifold mesh).
-std::size_t orient_outwards(const std::vector<Vec3>& vertices, std::vector<SlicedMesh::Triangle>& triangles) {
+// the edges that are not shared by exactly two triangles (0 for a closed manifold mesh), and
+// in `misoriented` the shared edges that two triangles still run the same way (0 unless this
+// function is wrong).
+std::size_t orient_outwards(const std::vector<Vec3>& vertices, std::vector<SlicedMesh::Triangle>& triangles,
+                            std::size_t& misoriented) {
+  misoriented = 0;
   struct EdgeUse {
     std::uint64_t key;
     int triangle;
@@ -122,13 +126,20 @@ std::size_t orient_outwards(const std::vector<Vec3>& vertices, std::vector<Slice
       const int t = stack.back();
       stack.pop_back();
       members.push_back(t);
+      // t is settled; `across` was found before any triangle was turned, so each shared
+      // edge is found again by its vertices in t's present order.
       const auto tri = triangles[static_cast<std::size_t>(t)];
-      for (int e = 0; e < 3; ++e) {
-        const int n = across[static_cast<std::size_t>(t)][e];
+      for (const int n : across[static_cast<std::size_t>(t)]) {
         if (n < 0 || part[static_cast<std::size_t>(n)] >= 0) continue;
-        // t is settled and runs its edge from tri[e] to tri[e + 1]: n must run it the other way.
-        if (runs(n, tri[e], tri[(e + 1) % 3]))
-          std::swap(triangles[static_cast<std::size_t>(n)][1], triangles[static_cast<std::size_t>(n)][2]);
+        const auto& other = triangles[static_cast<std::size_t>(n)];
+        auto holds = [&](int v) { return other[0] == v || other[1] == v || other[2] == v; };
+        for (int e = 0; e < 3; ++e) {
+          if (!holds(tri[e]) || !holds(tri[(e + 1) % 3])) continue;
+          // t runs the shared edge from tri[e] to tri[e + 1]: n must run it the other way.
+          if (runs(n, tri[e], tri[(e + 1) % 3]))
+            std::swap(triangles[static_cast<std::size_t>(n)][1], triangles[static_cast<std::size_t>(n)][2]);
+          break;
+        }
         part[static_cast<std::size_t>(n)] = parts;
         stack.push_back(n);
       }
@@ -145,6 +156,14 @@ std::size_t orient_outwards(const std::vector<Vec3>& vertices, std::vector<Slice
       for (int t : members)
         std::swap(triangles[static_cast<std::size_t>(t)][1], triangles[static_cast<std::size_t>(t)][2]);
     ++parts;
+  }
+  // The check of the above: every shared edge is now run once each way.
+  for (std::size_t i = 0; i + 1 < uses.size(); ++i) {
+    if (uses[i].key != uses[i + 1].key || (i + 2 < uses.size() && uses[i + 2].key == uses[i].key) ||
+        (i > 0 && uses[i - 1].key == uses[i].key))
+      continue;
+    const int a = static_cast<int>(uses[i].key >> 32), b = static_cast<int>(uses[i].key & 0xFFFFFFFFu);
+    if (runs(uses[i].triangle, a, b) == runs(uses[i + 1].triangle, a, b)) ++misoriented;
   }
   return bad_edges;
 }
@@ -211,7 +230,8 @@ int main(int argc, char** argv) {
       for (SlicedMesh::Triangle t : built.mesh.triangles())
         triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
     }
-    const std::size_t bad_edges = orient_outwards(vertices, triangles);
+    std::size_t misoriented = 0;
+    const std::size_t bad_edges = orient_outwards(vertices, triangles, misoriented);
 
     // The translation that puts the widened frame's lower left corner at the origin.
     Vec3 shift{0, 0, 0};
@@ -269,11 +289,11 @@ int main(int argc, char** argv) {
         "\"z0_mm\": {:.17g}, \"pitch_x_mm\": {:.17g}, \"pitch_y_mm\": {:.17g}, \"layer_mm\": {:.17g}}},\n"
         " \"frame_margin_px\": {}, \"shift_mm\": [{:.17g}, {:.17g}, {:.17g}], \"markers\": {},\n"
         " \"triangles\": {}, \"vertices\": {}, \"samples\": [{}], \"tolerance_mm\": {:.6g}, \"deviation_mm\": {:.6g}, "
-        "\"vertex_budget\": {}, \"unpaired_edges\": {}{}}}\n",
+        "\"vertex_budget\": {}, \"unpaired_edges\": {}, \"misoriented_edges\": {}{}}}\n",
         L.width_px, L.height_px, L.num_layers, L.x0_mm, L.y_top_mm, L.z0_mm, L.pitch_x_mm, L.pitch_y_mm, L.layer_mm,
         margin_px, shift.x, shift.y, shift.z, frame != nullptr ? 2 : 0, triangles.size(), vertices.size(), samples,
-        tolerance_mm, deviation_mm, budget, bad_edges, counted);
-    return bad_edges == 0 ? 0 : 1;
+        tolerance_mm, deviation_mm, budget, bad_edges, misoriented, counted);
+    return bad_edges == 0 && misoriented == 0 ? 0 : 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "outline_stl: %s\n", e.what());
     return 1;
