@@ -21,7 +21,9 @@ The mesh is trivox's own outline of the duck (`outline_stl`, the mesh the slicer
 each layer's outline: the six faces of the volume sampled on a grid until every grid cell
 lies within the outline tolerance, by default the slicer's, an eighth of the finest pitch;
 --tolerance-mm passes another), turned to face outwards and written as a binary STL in
-printer mm. PrusaSlicer's time includes reading and repairing it; trivox's includes reading
+printer mm. --also-tolerance-mm adds meshes at other tolerances, sliced by PrusaSlicer
+alone: their rows show how its time follows the mesh's size; their counts are reported,
+not checked. PrusaSlicer's time includes reading and repairing it; trivox's includes reading
 the scene and building the duck's volume from its surfaces. Each side writes its usual
 output: trivox a Voxel Print PNG per layer (RGBA), PrusaSlicer an .sl1 archive (a zip of one
 8-bit PNG per layer).
@@ -48,11 +50,15 @@ The two grids are aligned exactly:
   z0 + (n + 0.25) * layer: no plane cuts them, but they make z_min = z0 and give PrusaSlicer
   exactly trivox's n planes.
 
+On the duck PrusaSlicer's inside pixels of each layer are within 10 of the mesh's own pixel
+centres on trivox's grid, and its first and last layers match them exactly: a grid off by
+a pixel or a layer would show as hundreds.
+
 The counts: trivox's from its stats.json (`pixels_inside` per layer); PrusaSlicer's by
 counting the lit pixels of every PNG of the archive; and, as a third figure, the pixel
 centres of trivox's grid inside the mesh itself (`outline_stl --count`), so that the mesh's
 distance from the true surface and the rasterizers' rules can be told apart. trivox is also
-run on its first layer alone (empty: below the model) to measure its set-up (reading the
+run on its first layer alone (for the duck an empty one, below the model) to measure its set-up (reading the
 scene, building the volume, its bounds and its outline mesh), reported beside the
 per-layer figures.
 
