@@ -2,10 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <span>
 
 #include "trivox/error.h"
-#include "trivox/parallel.h"
 
 namespace trivox::detail {
 
@@ -63,7 +61,7 @@ std::int64_t boundary_mesh_vertices(const std::array<int, 3>& n) noexcept {
 }
 
 BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int64_t max_vertices,
-                                 const std::atomic<bool>* stop, int threads) {
+                                 const std::atomic<bool>* stop) {
   const ParamBox& dom = v.domain();
   std::array<int, 3> n{};
   // Start from a few samples per polynomial piece and double where a face is too coarse.
@@ -85,17 +83,11 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
       t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n[static_cast<std::size_t>(d)]);
     std::array<bool, 3> refine{false, false, false};
     deviation = 0;
-    // The six faces at once (face 2 fixed + side); then their verdicts in order.
-    std::array<double, 6> deviations{};
-    parallel_for_each(6, threads, [&](std::size_t f) {
-      const int fixed = static_cast<int>(f / 2), a = (fixed + 1) % 3, b = (fixed + 2) % 3;
-      deviations[f] = face_deviation(v, fixed, f % 2 == 0 ? dom.lo[fixed] : dom.hi[fixed], a,
-                                     t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]);
-    });
     for (int fixed = 0; fixed < 3; ++fixed) {
       const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
-      for (int side = 0; side < 2; ++side) {
-        const double face = deviations[static_cast<std::size_t>(2 * fixed + side)];
+      for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
+        const double face =
+            face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]);
         // NaN (a face whose points overflow) counts as too coarse.
         if (!(face <= tolerance_mm)) refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
         deviation = std::isnan(face) ? HUGE_VAL : std::max(deviation, face);
@@ -162,8 +154,7 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
   }
   faces.clear();
   faces.shrink_to_fit();
-  // Evaluated once numbered, together, in blocks on several threads (evaluate_many gives each
-  // the value evaluate would, whatever the block).
+  // Evaluated once numbered, together (evaluate_many gives each the value evaluate would).
   std::vector<Vec3> params(grid_of.size());
   for (std::size_t k = 0; k < grid_of.size(); ++k) {
     const auto& ijk = grid_of[k];
@@ -171,12 +162,7 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
                  t[2][static_cast<std::size_t>(ijk[2])]};
   }
   std::vector<Vec3> vertices(grid_of.size());
-  constexpr std::size_t kBlock = std::size_t{1} << 14;
-  parallel_for_each((params.size() + kBlock - 1) / kBlock, threads, [&](std::size_t block) {
-    const std::size_t first = block * kBlock, count = std::min(kBlock, params.size() - first);
-    v.evaluate_many(std::span<const Vec3>(params).subspan(first, count),
-                    std::span<Vec3>(vertices).subspan(first, count));
-  });
+  v.evaluate_many(params, vertices);
   return {SlicedMesh(std::move(vertices), std::move(triangles)), n, deviation};
 }
 

@@ -38,9 +38,8 @@ inline constexpr std::int64_t kBoundaryMeshBytesPerVertex = 128;
 // the sampling starts coarser than a few samples per polynomial piece when that alone would
 // pass the budget). Its time and memory are therefore bounded by the budget, whatever the
 // volume's weights, coordinates or the tolerance. Checks `stop` between rounds and throws
-// CancelledError once it is raised. The faces, and the vertices, are evaluated on `threads`
-// threads (0: every core); the mesh is the same for any count.
+// CancelledError once it is raised.
 BoundaryMesh build_boundary_mesh(const Volume& volume, double tolerance_mm, std::int64_t max_vertices,
-                                 const std::atomic<bool>* stop = nullptr, int threads = 0);
+                                 const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox::detail

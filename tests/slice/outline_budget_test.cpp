@@ -2,8 +2,6 @@
 // within the tolerance (corner weights 0.01 and 100) stops at the budget, and the slicer's
 // wider band, decided by the exact inverse, still gives every pixel the global solver gives.
 #include <algorithm>
-#include <bit>
-#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -45,28 +43,6 @@ TEST(OutlineBudget, RefinementStopsAtTheBudgetAndSaysHowCloseItCame) {
   const detail::BoundaryMesh flat = detail::build_boundary_mesh(weighted_box(1, 1), 1e-9, budget);
   EXPECT_LE(flat.deviation_mm, 1e-9);
   EXPECT_LT(static_cast<std::int64_t>(flat.mesh.vertex_count()), 200);
-}
-
-// The faces are measured, and the vertices evaluated, on several threads: the mesh is the same
-// bit for bit for any count (a budget that stops the refinement, and one that does not).
-TEST(OutlineBudget, TheMeshIsTheSameForAnyThreadCount) {
-  const Volume v = weighted_box(0.01, 100);
-  for (const std::int64_t budget : {std::int64_t{20000}, std::int64_t{400000}}) {
-    const detail::BoundaryMesh one = detail::build_boundary_mesh(v, 1e-3, budget, nullptr, 1);
-    for (int threads : {2, 5}) {
-      const detail::BoundaryMesh many = detail::build_boundary_mesh(v, 1e-3, budget, nullptr, threads);
-      EXPECT_EQ(many.samples, one.samples);
-      EXPECT_EQ(std::bit_cast<std::uint64_t>(many.deviation_mm), std::bit_cast<std::uint64_t>(one.deviation_mm));
-      ASSERT_EQ(many.mesh.vertices().size(), one.mesh.vertices().size());
-      std::size_t differ = 0;
-      for (std::size_t i = 0; i < one.mesh.vertices().size(); ++i)
-        for (int c = 0; c < 3; ++c)
-          differ += std::bit_cast<std::uint64_t>(many.mesh.vertices()[i][c]) !=
-                    std::bit_cast<std::uint64_t>(one.mesh.vertices()[i][c]);
-      EXPECT_EQ(differ, 0u) << threads << " threads";
-      EXPECT_TRUE(many.mesh.triangles() == one.mesh.triangles());
-    }
-  }
 }
 
 // A quadratic 4 mm box whose face centres bulge out by 1 mm (curved faces), its 27 weights
