@@ -21,6 +21,7 @@
 #include "job_options.h"
 #include "trivox/material/material_function.h"
 #include "trivox/output/layer_writer.h"
+#include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
@@ -36,6 +37,7 @@ struct SliceOptions {
   JobOptions job;
   bool quiet = false;
   bool resume = false;
+  bool no_cache = false;
   double manifest_interval_s = JobParams{}.manifest_interval_seconds;
 };
 
@@ -122,9 +124,13 @@ class LockedOutputFolder {
   ~LockedOutputFolder() {
     const bool roll_back = !committed_ && (!existed_ || was_empty_);
     std::error_code ec;
+    // The lock files stay until the lock is released; the construction cache is this job's.
     if (roll_back)
-      for (const auto& entry : std::filesystem::directory_iterator(dir_, ec))
-        if (!entry.path().filename().string().starts_with(".trivox")) std::filesystem::remove_all(entry.path(), ec);
+      for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (!name.starts_with(".trivox") || name == kConstructionCacheFolder)
+          std::filesystem::remove_all(entry.path(), ec);
+      }
     lock_.reset();                                                  // removes the lock files
     if (roll_back && !existed_) std::filesystem::remove(dir_, ec);  // only when nothing else came in
   }
@@ -154,7 +160,20 @@ void run(const SliceOptions& so) {
     fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n",
                *job.folder_lock->taken_over_from());
 
-  const Scene scene = read_scene(o.scene, &g_stop);
+  // Constructed volumes come from the output folder's cache when an earlier run (or another
+  // shard) built them (docs/SLICING.md, "The construction cache").
+  std::optional<ConstructionCache> cache;
+  if (!so.no_cache) cache.emplace(construction_cache_dir(job.output_dir));
+  SceneReadOptions read;
+  read.stop = &g_stop;
+  read.construction_cache = cache ? &*cache : nullptr;
+  const Scene scene = read_scene(o.scene, read);
+  if (cache) {
+    for (const std::string& w : cache->warnings()) fmt::print(stderr, "trivox: warning: {}\n", w);
+    if (cache->hits() > 0 && !so.quiet)
+      fmt::print(stderr, "trivox: {} constructed volume{} taken from the construction cache {}\n", cache->hits(),
+                 cache->hits() == 1 ? "" : "s", cache->dir().string());
+  }
   warn_about_printer(scene);
   SliceParams params = slice_params_of(o, scene);
   params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
@@ -273,6 +292,9 @@ void add_slice_command(CLI::App& app) {
   cmd->add_flag(
       "--resume", opts->resume,
       "Continue the job recorded in the folder's manifest; refused when the scene, models or settings differ");
+  cmd->add_flag("--no-cache", opts->no_cache,
+                "Build every constructed volume, neither reading nor writing the construction cache in the output "
+                "folder (.trivox-cache)");
   cmd->add_option("--manifest-interval", opts->manifest_interval_s,
                   "Seconds between rewrites of manifest.json while layers complete (0: after every layer); a "
                   "killed job redoes at most the layers of one interval")

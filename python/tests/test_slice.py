@@ -1,6 +1,7 @@
 """Slicing from Python against the trivox program: slice_layer gives the pixels of the
 program's layer images, and slice() writes the same bytes as `trivox slice` for every bundled
-example (a few layers of each; every file but stats.json's timings); the fractions before
+example (a few layers of each; every file but stats.json's timings and the program's
+construction cache); the fractions before
 dithering dither to the labels; progress, Ctrl-C and resume."""
 
 import json
@@ -19,11 +20,14 @@ SCENE_NAMES = sorted(p.stem for p in SCENES.glob("*.json"))
 
 
 def folder_files(folder):
-    """Every file below folder: relative name -> bytes, stats.json without its timings."""
+    """Every file below folder: relative name -> bytes, stats.json without its timings. The
+    program's construction cache (.trivox-cache/, docs/CLI.md) holds no output: left out."""
     out = {}
     for path in sorted(pathlib.Path(folder).rglob("*")):
         if path.is_file():
             name = path.relative_to(folder).as_posix()
+            if name.startswith(".trivox-cache/"):
+                continue
             data = path.read_bytes()
             if name.startswith("stats"):
                 data = json.dumps(_without_timings(json.loads(data)), sort_keys=True).encode()

@@ -18,6 +18,8 @@
 #include "trivox/construct/sweep.h"
 #include "trivox/construct/untangle.h"
 #include "trivox/error.h"
+#include "trivox/io/detail/sha256.h"
+#include "trivox/scene/construction_cache.h"
 #include "trivox/spline/jacobian_check.h"
 
 namespace trivox::detail {
@@ -102,13 +104,49 @@ std::vector<TensorSpline> parse_shell_faces(const JsonView& node, SceneContext& 
   return out;
 }
 
-template <class Build>
-Constructed run(const JsonView& node, Build build) {
-  try {
-    return build();
-  } catch (const ModelError& e) {
-    node.fail(e.what());
+// Appends "file NAME SHA-256" for every model file `node` names, in document order.
+void add_model_files(const JsonView& node, SceneContext& ctx, std::string& text) {
+  if (node.is_object()) {
+    for (const auto& [key, value] : node.members()) {
+      if (key == "file" && value.is_string())
+        text += fmt::format("file {} {}\n", value.string(), ctx.model_sha256(value));
+      else
+        add_model_files(value, ctx, text);
+    }
+  } else if (node.is_array()) {
+    for (const JsonView& e : node.elements()) add_model_files(e, ctx, text);
   }
+}
+
+// The construction cache's key (construction_cache.h): the program, the constructor and its
+// object as read (canonical: keys sorted, no whitespace, numbers written to round-trip), and
+// the SHA-256 of every model file it names.
+std::string cache_key(std::string_view kind, const JsonView& c, SceneContext& ctx, const std::string& program) {
+  std::string text = fmt::format("trivox construction cache key 1\n{}\nconstructor {}\n{}\n", program, kind,
+                                 nlohmann::json::parse(c.json().dump()).dump());
+  add_model_files(c, ctx, text);
+  return sha256_hex(text);
+}
+
+// Builds the constructor's volume, its inputs already read from `node`, or takes it from the
+// scene's construction cache when that holds it (and stores it there once built).
+template <class Build>
+Constructed run(std::string_view kind, const JsonView& node, SceneContext& ctx, Build build) {
+  ConstructionCache* cache = ctx.construction_cache();
+  std::string key;
+  if (cache != nullptr && !cache->program_identity().empty()) {
+    key = cache_key(kind, node, ctx, cache->program_identity());
+    if (std::optional<Constructed> hit = cache->load(key)) return std::move(*hit);
+  }
+  Constructed built = [&] {
+    try {
+      return build();
+    } catch (const ModelError& e) {
+      node.fail(e.what());
+    }
+  }();
+  if (!key.empty()) cache->store(key, built);
+  return built;
 }
 
 Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
@@ -119,13 +157,13 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     ExtrudeParams p;
     p.vector_mm = nonzero_vec3(c.at("vector_mm"));
     p.check = check;
-    return run(c, [&] { return extrude(s, p); });
+    return run(kind, c, ctx, [&] { return extrude(s, p); });
   }
   if (kind == "ruled") {
     expect_keys(c, {"from", "to"});
     const TensorSpline a = parse_curve_or_surface(c.at("from"), ctx, 2);
     const TensorSpline b = parse_curve_or_surface(c.at("to"), ctx, 2);
-    return run(c, [&] { return ruled(a, b, RuledParams{check}); });
+    return run(kind, c, ctx, [&] { return ruled(a, b, RuledParams{check}); });
   }
   if (kind == "revolve") {
     expect_keys(c, {"profile", "axis_point_mm", "axis_dir", "angle_deg", "angle_param"});
@@ -145,7 +183,7 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
       p.angle_direction = name[0] - 'u';
     }
     p.check = check;
-    return run(c, [&] { return revolve(s, p); });
+    return run(kind, c, ctx, [&] { return revolve(s, p); });
   }
   if (kind == "sweep") {
     expect_keys(c, {"section", "path", "twist_deg", "stations", "initial_x"});
@@ -156,7 +194,7 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     if (const auto v = c.find("stations")) p.stations = v->integer_in(4, 4096);
     if (const auto v = c.find("initial_x")) p.initial_x = nonzero_vec3(*v);
     p.check = check;
-    return run(c, [&] { return sweep(section, path, p); });
+    return run(kind, c, ctx, [&] { return sweep(section, path, p); });
   }
   if (kind == "coons") {
     expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces", "untangle"});
@@ -182,12 +220,12 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
         if (c.find(coons_face_name(i)))
           c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
       const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
-      return run(c, [&] { return make(arrange_cube_faces(shell)); });
+      return run(kind, c, ctx, [&] { return make(arrange_cube_faces(shell)); });
     }
     std::vector<TensorSpline> f;
     for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
     const std::array<TensorSpline, 6> faces{f[0], f[1], f[2], f[3], f[4], f[5]};
-    return run(c, [&] { return make(faces); });
+    return run(kind, c, ctx, [&] { return make(faces); });
   }
   expect_keys(c, {kSurface, "thickness_mm", "side", "knots_per_span"});
   const TensorSpline s = parse_curve_or_surface(c.at(kSurface), ctx, 2);
@@ -208,7 +246,7 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   }
   if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   p.check = check;
-  return run(c, [&] { return thick_shell(s, p); });
+  return run(kind, c, ctx, [&] { return thick_shell(s, p); });
 }
 
 // "patches": rows of surface indices of one file, joined into one surface (construct/join.h).

@@ -19,6 +19,7 @@
 #include "trivox/io/triangle_mesh.h"
 #include "trivox/material/detail/scalar_gradient_material.h"
 #include "trivox/material/material_function.h"
+#include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/tensor_spline.h"
@@ -41,6 +42,10 @@ class SceneContext {
   void set_stop(const std::atomic<bool>* stop) noexcept { stop_ = stop; }
   const std::atomic<bool>* stop() const noexcept { return stop_; }
 
+  // Where constructed geometry is looked up before it is built, and stored after; may be null.
+  void set_construction_cache(ConstructionCache* cache) noexcept { construction_cache_ = cache; }
+  ConstructionCache* construction_cache() const noexcept { return construction_cache_; }
+
   // The finest pitch of the scene's printer (mm): the scale at which a mesh trim must not
   // intersect itself.
   void set_pixel_mm(double pixel_mm) noexcept { pixel_mm_ = pixel_mm; }
@@ -57,6 +62,8 @@ class SceneContext {
 
   // The model file a string field names, relative to the scene's folder; read once per scene.
   const Model& model(const JsonView& file_field);
+  // The SHA-256 of the model file a string field names (read by model() if it was not yet).
+  const std::string& model_sha256(const JsonView& file_field);
   // The triangle mesh file a string field names (trivox/io/triangle_mesh.h), relative to the
   // scene's folder; read once per scene and hashed like a model file.
   const TriangleMeshFile& triangle_mesh(const JsonView& file_field);
@@ -74,9 +81,11 @@ class SceneContext {
   std::string source_;
   std::filesystem::path base_dir_;
   const std::atomic<bool>* stop_ = nullptr;
+  ConstructionCache* construction_cache_ = nullptr;
   std::vector<std::string> material_names_;
   double pixel_mm_ = 0;
   std::map<std::string, Model> models_;                               // by resolved path
+  std::map<std::string, std::string> model_sha256_;                   // by resolved path
   std::map<std::string, TriangleMeshFile> meshes_;                    // by resolved path
   std::map<std::string, std::shared_ptr<const VolumeImage>> images_;  // by the image object's text
   std::vector<SceneInputFile> input_files_;

@@ -477,6 +477,12 @@ void fingerprint(const Json& root, Scene& scene) {
 }  // namespace
 
 Scene parse_scene(std::string_view json_text, const std::filesystem::path& source, const std::atomic<bool>* stop) {
+  SceneReadOptions options;
+  options.stop = stop;
+  return parse_scene(json_text, source, options);
+}
+
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source, const SceneReadOptions& options) {
   const std::string src = source.string();
   const Json root = detail::parse_json_text(json_text, src);
   const JsonView top(root, "", src);
@@ -499,7 +505,8 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   if (const auto d = top.find("dithering")) scene.dithering = parse_dithering(*d);
 
   detail::SceneContext ctx(src, source.parent_path());
-  ctx.set_stop(stop);
+  ctx.set_stop(options.stop);
+  ctx.set_construction_cache(options.construction_cache);
   ctx.set_pixel_mm(
       std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
   std::vector<std::string> names;
@@ -519,6 +526,12 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
 }
 
 Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* stop) {
+  SceneReadOptions options;
+  options.stop = stop;
+  return read_scene(path, options);
+}
+
+Scene read_scene(const std::filesystem::path& path, const SceneReadOptions& options) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read the scene file {}: it is a folder", path.string()));
@@ -526,7 +539,7 @@ Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* sto
   if (!in) throw IoError(fmt::format("cannot open the scene file {}", path.string()));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw IoError(fmt::format("cannot read the scene file {}", path.string()));
-  return parse_scene(text, path, stop);
+  return parse_scene(text, path, options);
 }
 
 }  // namespace trivox

@@ -33,6 +33,7 @@ const Model& SceneContext::model(const JsonView& file_field) {
     // rather than mix two versions.
     std::string digest = sha256_file(path).sha256;
     const Model& model = models_.emplace(key, read_model(path)).first->second;
+    model_sha256_[key] = digest;
     input_files_.push_back(SceneInputFile{name, std::move(digest)});
     return model;
   } catch (const UnsupportedError& e) {
@@ -41,6 +42,13 @@ const Model& SceneContext::model(const JsonView& file_field) {
   } catch (const Error& e) {
     file_field.fail(fmt::format("cannot use the model file \"{}\": {}", name, e.what()));
   }
+}
+
+const std::string& SceneContext::model_sha256(const JsonView& file_field) {
+  model(file_field);
+  std::filesystem::path path(file_field.string());
+  if (path.is_relative()) path = base_dir_ / path;
+  return model_sha256_.at(path.lexically_normal().string());
 }
 
 TensorSpline parse_inline_spline(const JsonView& node, int param_dim, int point_dim) {

@@ -1,5 +1,8 @@
 // Untangling moves only the interior control points: a folded volume comes out with det J of
 // one sign on a fine grid, its faces unchanged; a valid volume is left alone.
+#include <bit>
+#include <cstdint>
+
 #include <gtest/gtest.h>
 
 #include "support/test_support.h"
@@ -107,6 +110,115 @@ TEST(Untangle, ObjectiveAndGradientMatchTheirReferences) {
       EXPECT_NEAR(grad[c], fd, 1e-5 * (1.0 + std::abs(fd))) << "coordinate " << c << ", sigma " << sigma;
     }
   }
+}
+
+// The fast objective (det J of several samples at once, on several threads) against the
+// reference (one sample at a time, in the grid's order): the same bits, not just close.
+void expect_objective_as_reference(const TensorSpline& s, int samples_per_span, double scale, double target) {
+  SCOPED_TRACE(testing::Message() << s.num_ctrl(0) << " x " << s.num_ctrl(1) << " x " << s.num_ctrl(2)
+                                  << " control points, " << samples_per_span << " samples per span");
+  for (double sigma : {1.0, -1.0}) {
+    SCOPED_TRACE(testing::Message() << "sigma " << sigma);
+    std::vector<double> grad, grad_ref;
+    const double f = detail::untangle_objective(s, samples_per_span, sigma, scale, target, &grad);
+    const double f_ref = detail::untangle_objective_reference(s, samples_per_span, sigma, scale, target, &grad_ref);
+    ASSERT_GT(f_ref, 0.0) << "the case should have samples below the target";
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(f), std::bit_cast<std::uint64_t>(f_ref)) << f << " vs " << f_ref;
+    ASSERT_EQ(grad.size(), grad_ref.size());
+    std::size_t differ = 0, nonzero = 0;
+    for (std::size_t i = 0; i < grad.size(); ++i) {
+      differ += std::bit_cast<std::uint64_t>(grad[i]) != std::bit_cast<std::uint64_t>(grad_ref[i]);
+      nonzero += grad_ref[i] != 0.0;
+    }
+    EXPECT_EQ(differ, 0u) << "of " << grad.size() << " coordinates, sigma " << sigma;
+    EXPECT_GT(nonzero, 0u);
+  }
+}
+
+// A folded volume of orders 2, 3 and 4 on uneven knots (every span length different, a
+// double knot in w), its interior points scattered: the lane groups of the fast objective
+// then hold one to four samples, of spans with different first control points.
+TensorSpline scattered_mixed_orders() {
+  const KnotVector ku(2, {0, 0, 0.3, 0.35, 1, 1});
+  const KnotVector kv(3, {-1, -1, -1, 0.2, 0.9, 2, 2, 2});
+  const KnotVector kw(4, {0, 0, 0, 0, 0.5, 0.5, 3, 3, 3, 3});
+  const int nu = ku.num_ctrl(), nv = kv.num_ctrl(), nw = kw.num_ctrl();
+  std::vector<double> pts;
+  std::uint64_t state = 12345;
+  auto next = [&state] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0 - 0.5;
+  };
+  for (int k = 0; k < nw; ++k)
+    for (int j = 0; j < nv; ++j)
+      for (int i = 0; i < nu; ++i) {
+        const bool interior = i > 0 && i + 1 < nu && j > 0 && j + 1 < nv && k > 0 && k + 1 < nw;
+        const double jitter = interior ? 14.0 : 1.5;
+        pts.insert(pts.end(), {7.0 * i + jitter * next(), 5.0 * j + jitter * next(), 3.0 * k + jitter * next()});
+      }
+  return TensorSpline({ku, kv, kw}, 3, std::move(pts));
+}
+
+TEST(Untangle, FastObjectiveIsTheReferenceBitForBit) {
+  expect_objective_as_reference(folded_cube(), 4, 300.0, 0.05);
+  expect_objective_as_reference(folded_cube(), 7, 300.0, 0.05);
+  const TensorSpline mixed = scattered_mixed_orders();
+  for (int samples : {1, 2, 3, 5}) expect_objective_as_reference(mixed, samples, 40.0, 0.3);
+  expect_objective_as_reference(insert_knot(insert_knot(mixed, 0, 0.7), 2, 1.25), 3, 40.0, 0.3);
+}
+
+void expect_untangle_as_reference(const TensorSpline& volume, const UntangleParams& p) {
+  const UntangleResult fast = untangle(volume, p);
+  const UntangleResult slow = detail::untangle_reference(volume, p);
+  EXPECT_EQ(fast.iterations, slow.iterations);
+  EXPECT_EQ(fast.below_target_before, slow.below_target_before);
+  EXPECT_EQ(fast.below_target_after, slow.below_target_after);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(fast.min_relative_after),
+            std::bit_cast<std::uint64_t>(slow.min_relative_after));
+  ASSERT_EQ(fast.spline.points().size(), slow.spline.points().size());
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < fast.spline.points().size(); ++i)
+    differ +=
+        std::bit_cast<std::uint64_t>(fast.spline.points()[i]) != std::bit_cast<std::uint64_t>(slow.spline.points()[i]);
+  EXPECT_EQ(differ, 0u) << "of " << fast.spline.points().size() << " coordinates";
+}
+
+TEST(Untangle, FastUntanglingIsTheReferenceBitForBit) {
+  expect_untangle_as_reference(folded_cube(), {});
+  UntangleParams p;
+  p.samples_per_span = 2;
+  p.iterations = 60;
+  p.target_relative = 0.2;
+  expect_untangle_as_reference(scattered_mixed_orders(), p);
+  for (int threads : {1, 3}) {
+    p.threads = threads;
+    expect_untangle_as_reference(scattered_mixed_orders(), p);
+  }
+}
+
+// A pyramid: the face u = 0 of a cube collapsed to the origin. det J is 0 on that face
+// whatever the interior points do, and there the gradient is exactly 0 too (J's v and w
+// columns vanish), so once the other samples meet the target the descent ends at a zero
+// gradient. The reference then runs its line search on a NaN direction to the end (40
+// evaluations); untangle() stops at once, with the same volume.
+TEST(Untangle, StopsAtAZeroGradientWithTheReferencesVolume) {
+  std::vector<double> pts;
+  for (int k = 0; k < 4; ++k)
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const double t = i / 3.0;
+        pts.insert(pts.end(), {10.0 * t, t * 10.0 * j / 3, t * 10.0 * k / 3});
+      }
+  const KnotVector b = KnotVector::bezier(4);
+  const TensorSpline pyramid({b, b, b}, 3, std::move(pts));
+  UntangleParams p;
+  p.knots_per_span = 0;
+  const UntangleResult fast = untangle(pyramid, p);
+  const UntangleResult slow = detail::untangle_reference(pyramid, p);
+  EXPECT_LT(fast.iterations, p.iterations);
+  EXPECT_GT(fast.below_target_after, 0);  // the apex face
+  EXPECT_EQ(fast.evaluations + 40, slow.evaluations);
+  expect_untangle_as_reference(pyramid, p);
 }
 
 TEST(Untangle, ValidVolumeIsLeftAsItIs) {

@@ -31,6 +31,8 @@ struct UntangleParams {
   // included); the grid should be finer than any check grid used afterwards.
   int samples_per_span = 3;
   double target_relative = 0.05;  // aimed-for minimum of sigma det J / mean |det J|
+  // Threads that sample det J (0: every core). The result is the same for any count.
+  int threads = 0;
   // Checked every iteration: once true, untangle() throws CancelledError.
   const std::atomic<bool>* stop = nullptr;
 };
@@ -38,6 +40,8 @@ struct UntangleParams {
 struct UntangleResult {
   TensorSpline spline;  // the refined volume with moved interior points
   int iterations = 0;
+  // Evaluations of F (each a pass over every sample): the work, for the tests and benchmarks.
+  int evaluations = 0;
   // On the objective's sample grid, before and after: samples below the target, and the
   // smallest sigma det J / scale.
   int below_target_before = 0, below_target_after = 0;
@@ -55,6 +59,13 @@ namespace detail {
 // spline's order). Exposed for the tests.
 double untangle_objective(const TensorSpline& s, int samples_per_span, double sigma, double scale,
                           double target_relative, std::vector<double>* gradient);
+// The same, one sample at a time in the grid's order: the slow, obvious reference the fast
+// objective (det J of four samples at once, on several threads) must match bit for bit.
+double untangle_objective_reference(const TensorSpline& s, int samples_per_span, double sigma, double scale,
+                                    double target_relative, std::vector<double>* gradient);
+// untangle() driven by the reference objective, and without its early stop at a zero gradient
+// (where the line search can only fail): the volume untangle() must match bit for bit.
+UntangleResult untangle_reference(const TensorSpline& volume, const UntangleParams& params = {});
 }  // namespace detail
 
 }  // namespace trivox

@@ -132,6 +132,17 @@ struct Scene {
   Box3 bounds() const noexcept;
 };
 
+class ConstructionCache;  // construction_cache.h
+
+struct SceneReadOptions {
+  // Checked by the long constructions (untangling): once it is true, reading throws
+  // CancelledError. May be set from a signal handler.
+  const std::atomic<bool>* stop = nullptr;
+  // Constructed geometry is taken from this cache when it holds it, and stored in it when it
+  // is built (construction_cache.h); null: every volume is built.
+  ConstructionCache* construction_cache = nullptr;
+};
+
 // Reads a scene file. Model and field files it names are read relative to its folder.
 // Throws IoError when the scene file cannot be read, and InputError for everything wrong
 // inside it or in the files it names: what() is "scene.json: /json/pointer: rule" (or
@@ -139,10 +150,12 @@ struct Scene {
 // signal handler) is checked by the long constructions (untangling): once it is true,
 // reading throws CancelledError.
 Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr);
+Scene read_scene(const std::filesystem::path& path, const SceneReadOptions& options);
 
 // The same from text: `source` names the scene in errors, and relative file names resolve
 // against source's parent folder.
 Scene parse_scene(std::string_view json_text, const std::filesystem::path& source,
                   const std::atomic<bool>* stop = nullptr);
+Scene parse_scene(std::string_view json_text, const std::filesystem::path& source, const SceneReadOptions& options);
 
 }  // namespace trivox

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "trivox/output/png_io.h"
+#include "trivox/scene/construction_cache.h"
 #include "trivox/slice/manifest.h"
 #include "trivox/slice/printed_extent.h"
 #include "trivox/slice/slicer.h"
@@ -124,6 +125,13 @@ std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& 
 // The manifest this job starts from: tool version, inputs, effective settings and layer
 // count, status running, no files.
 JobManifest job_manifest(const Slicer& slicer, const JobParams& params);
+
+// The construction cache of a job's output folder (scene/construction_cache.h), which
+// `trivox slice` reads the scene through: DIR/.trivox-cache. Repeated runs into the folder,
+// --resume and every shard of the job then build each constructed volume once.
+inline std::filesystem::path construction_cache_dir(const std::filesystem::path& output_dir) {
+  return output_dir / kConstructionCacheFolder;
+}
 
 // stats.json (FORMATS.md): the job's settings, then per layer and in total the columns of
 // the paper's Table 2 and how the pixels were settled (stats_json.cpp).
