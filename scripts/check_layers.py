@@ -6,8 +6,16 @@ the layers its files include must be exactly those the table's "uses" column lis
 that includes one the table does not list breaks a wall, and one the table lists but never
 includes makes the table wrong. No file under src/ may include another layer's private
 header (src/<other>/...). The program (apps/trivox) and the top-level headers
-(include/trivox/*.h) are outside the table. Exit status 0 when all holds, 1 with one line
-per finding otherwise. Run by the test suite (tests/CMakeLists.txt).
+(include/trivox/*.h) are outside the table.
+
+A layer's detail headers (include/trivox/<layer>/detail/) are what the library's own layers
+share and a user does not see (docs/ARCHITECTURE.md, "Public surface"): another layer may
+include them, within the table's walls, but no public header (include/trivox/ outside
+detail/) may, and neither may the program, the Python module or the fuzzers (apps/, python/,
+fuzz/), which use the public headers only. Tests and benchmarks may use anything.
+
+Exit status 0 when all holds, 1 with one line per finding otherwise. Run by the test suite
+(tests/CMakeLists.txt).
 """
 import pathlib
 import re
@@ -44,7 +52,7 @@ for layer in layers:
         rel = f.relative_to(root)
         for inc in include_re.findall(f.read_text()):
             parts = inc.split("/")
-            if parts[0] == "trivox" and len(parts) == 3:
+            if parts[0] == "trivox" and (len(parts) == 3 or (len(parts) == 4 and parts[2] == "detail")):
                 other = parts[1]
             elif len(parts) == 2 and parts[0] in layers:
                 other = parts[0]
@@ -61,8 +69,24 @@ for layer in layers:
         for other in sorted(table[layer] - used):
             findings.append(f"docs/ARCHITECTURE.md says '{layer}' uses '{other}', but no file of it includes '{other}'")
 
+# The public surface: no public header, and nothing in the program, the Python module or the
+# fuzzers, includes a detail header or a private one.
+include_root = root / "include" / "trivox"
+public = sorted(h for h in include_root.rglob("*.h") if "detail" not in h.relative_to(include_root).parts)
+detail = sorted(h for h in include_root.rglob("*.h") if "detail" in h.relative_to(include_root).parts)
+users = [f for area in ("apps", "python", "fuzz") for f in sorted((root / area).rglob("*")) if f.suffix in (".h", ".cpp")]
+for f in public + users:
+    rel = f.relative_to(root)
+    for inc in include_re.findall(f.read_text()):
+        parts = inc.split("/")
+        if parts[0] == "trivox" and "detail" in parts:
+            findings.append(f"{rel}: includes {inc}, a detail header, which only the library's own sources use")
+        elif parts[0] in layers and (root / "src" / inc).is_file():
+            findings.append(f"{rel}: includes {inc}, a private header of layer '{parts[0]}'")
+
 for f in findings:
     print(f"check_layers: {f}")
 if findings:
     sys.exit(1)
-print(f"check_layers: {len(layers)} layers, each using only what docs/ARCHITECTURE.md lists")
+print(f"check_layers: {len(layers)} layers, each using only what docs/ARCHITECTURE.md lists; "
+      f"{len(public)} public headers, {len(detail)} detail headers used by the library alone")

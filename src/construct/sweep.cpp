@@ -11,7 +11,7 @@
 
 #include "construct/construct_util.h"
 #include "trivox/error.h"
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 #include "trivox/spline/refine.h"
 #include "trivox/spline/respace.h"
 

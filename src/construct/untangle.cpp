@@ -11,7 +11,7 @@
 
 #include "trivox/error.h"
 #include "trivox/math.h"
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 #include "trivox/spline/refine.h"
 
 namespace trivox {

@@ -13,7 +13,7 @@
 #include <cmath>
 
 #include "bezier_net.h"
-#include "trivox/spline/homogeneous.h"
+#include "trivox/spline/detail/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 HWY_BEFORE_NAMESPACE();

@@ -3,8 +3,8 @@
 // uses too, are declared in trivox/inverse/trace.h.
 #pragma once
 
+#include "trivox/inverse/detail/trace.h"
 #include "trivox/inverse/invert.h"
-#include "trivox/inverse/trace.h"
 
 namespace trivox::detail {
 

@@ -18,9 +18,9 @@
 
 #include <fmt/format.h>
 
+#include "io/topology.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
-#include "trivox/io/topology.h"
 
 namespace trivox {
 

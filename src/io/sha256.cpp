@@ -1,4 +1,4 @@
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 
 #include <openssl/evp.h>
 

@@ -11,8 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "io/topology.h"
 #include "trivox/error.h"
-#include "trivox/io/topology.h"
 
 namespace trivox {
 

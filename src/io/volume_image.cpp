@@ -1,4 +1,4 @@
-#include "trivox/io/volume_image.h"
+#include "trivox/io/detail/volume_image.h"
 
 #include <tiffio.h>
 

@@ -1,4 +1,4 @@
-#include "trivox/material/composite_material.h"
+#include "trivox/material/detail/composite_material.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "trivox/material/constant_material.h"
+#include "trivox/material/detail/constant_material.h"
 
 #include <algorithm>
 #include <cmath>

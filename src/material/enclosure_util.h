@@ -6,8 +6,8 @@
 #include <span>
 #include <vector>
 
+#include "trivox/material/detail/scalar_gradient_material.h"
 #include "trivox/material/fraction_enclosure.h"
-#include "trivox/material/scalar_gradient_material.h"
 
 namespace trivox::detail {
 

@@ -3,7 +3,8 @@
 // documents (docs/SCENE.md, "expression"), evaluated at a point as muParser does, and over a
 // box of the variables by interval arithmetic with an enclosure of the gradient, for the
 // mean-value form (f(box) in f(c) + grad f(box) . (box - c)), which sees that 1 - u and u sum
-// to exactly 1 where the intervals alone would not.
+// to exactly 1 where the intervals alone would not. Parsing and evaluation at a point are in
+// expression_tree.cpp, the enclosure over a box in expression_enclosure.cpp.
 //
 // muParser itself stays the evaluator of record: ExpressionMaterial compares the two at a
 // set of points before it trusts a tree, and bounds nothing for an expression this parser

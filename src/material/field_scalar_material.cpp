@@ -1,4 +1,4 @@
-#include "trivox/material/field_scalar_material.h"
+#include "trivox/material/detail/field_scalar_material.h"
 
 #include "material/spline_coefficient_bounds.h"
 

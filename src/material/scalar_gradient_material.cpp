@@ -1,4 +1,4 @@
-#include "trivox/material/scalar_gradient_material.h"
+#include "trivox/material/detail/scalar_gradient_material.h"
 
 #include "material/enclosure_util.h"
 

@@ -1,4 +1,4 @@
-#include "trivox/material/spline_field_material.h"
+#include "trivox/material/detail/spline_field_material.h"
 
 #include <algorithm>
 #include <array>

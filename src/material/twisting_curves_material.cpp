@@ -1,4 +1,4 @@
-#include "trivox/material/twisting_curves_material.h"
+#include "trivox/material/detail/twisting_curves_material.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "trivox/material/volume_texture.h"
+#include "trivox/material/detail/volume_texture.h"
 
 #include <algorithm>
 #include <cmath>

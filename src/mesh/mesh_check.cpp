@@ -1,4 +1,4 @@
-#include "trivox/mesh/mesh_check.h"
+#include "trivox/mesh/detail/mesh_check.h"
 
 #include <algorithm>
 #include <cmath>

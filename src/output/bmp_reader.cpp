@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "trivox/error.h"
-#include "trivox/output/bmp_image.h"
+#include "trivox/output/detail/bmp_image.h"
 
 namespace trivox {
 

@@ -2,7 +2,7 @@
 
 #include "output/zip_reader.h"
 #include "trivox/error.h"
-#include "trivox/output/gcvf_package.h"
+#include "trivox/output/detail/gcvf_package.h"
 
 namespace trivox {
 

@@ -1,4 +1,4 @@
-#include "trivox/output/material_sheet.h"
+#include "trivox/output/detail/material_sheet.h"
 
 #include <fmt/format.h>
 

@@ -22,7 +22,7 @@
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/output/atomic_file.h"
-#include "trivox/output/tiff_stack.h"
+#include "trivox/output/detail/tiff_stack.h"
 
 namespace trivox {
 

@@ -43,9 +43,9 @@
 #include "output/layer_spool.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/output/atomic_file.h"
-#include "trivox/output/vdb_stack.h"
+#include "trivox/output/detail/vdb_stack.h"
 
 namespace trivox {
 

@@ -1,4 +1,4 @@
-#include "trivox/raster/blue_noise.h"
+#include "raster/blue_noise.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -3,10 +3,10 @@
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
-#include "trivox/material/composite_material.h"
-#include "trivox/material/constant_material.h"
+#include "trivox/material/detail/composite_material.h"
+#include "trivox/material/detail/constant_material.h"
+#include "trivox/material/detail/field_scalar_material.h"
 #include "trivox/material/expression_material.h"
-#include "trivox/material/field_scalar_material.h"
 
 namespace trivox::detail {
 

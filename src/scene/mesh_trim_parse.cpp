@@ -7,8 +7,8 @@
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
-#include "trivox/mesh/mesh_check.h"
+#include "trivox/io/detail/sha256.h"
+#include "trivox/mesh/detail/mesh_check.h"
 
 namespace trivox::detail {
 

@@ -14,11 +14,11 @@
 
 #include "scene/json_view.h"
 #include "trivox/construct/report.h"
+#include "trivox/io/detail/volume_image.h"
 #include "trivox/io/model.h"
 #include "trivox/io/triangle_mesh.h"
-#include "trivox/io/volume_image.h"
+#include "trivox/material/detail/scalar_gradient_material.h"
 #include "trivox/material/material_function.h"
-#include "trivox/material/scalar_gradient_material.h"
 #include "trivox/scene/scene.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/tensor_spline.h"
@@ -133,7 +133,7 @@ int volume_ref(const JsonView& name, const std::vector<SceneVolume>& volumes);
 std::vector<Vec3> parse_and_apply_placement(const JsonView& node, std::vector<Vec3> points);
 
 // A shell given as {"mesh": F, "placement", "inside_rule"} (mesh_trim_parse.cpp): the mesh
-// file read, placed and, for the even-odd rule, checked (trivox/mesh/mesh_check.h). `what`
+// file read, placed and, for the even-odd rule, checked (trivox/mesh/detail/mesh_check.h). `what`
 // is "model-space" or "parametric" (which a mesh cannot be).
 std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneContext& ctx, std::string_view what);
 

@@ -13,7 +13,7 @@
 #include "scene/json_view.h"
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/material/checked_material.h"
 #include "trivox/printer/material_library.h"
 #include "trivox/spline/jacobian_check.h"

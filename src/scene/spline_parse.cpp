@@ -8,7 +8,7 @@
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 
 namespace trivox::detail {
 

@@ -4,7 +4,7 @@
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
-#include "trivox/material/volume_texture.h"
+#include "trivox/material/detail/volume_texture.h"
 #include "trivox/output/png_io.h"
 
 namespace trivox::detail {

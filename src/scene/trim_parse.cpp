@@ -10,7 +10,7 @@
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
 #include "trivox/spline/jacobian_check.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox::detail {
 

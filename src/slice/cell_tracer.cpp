@@ -8,7 +8,7 @@
 
 #include "check.h"
 #include "trivox/error.h"
-#include "trivox/inverse/trace.h"
+#include "trivox/inverse/detail/trace.h"
 
 namespace trivox::detail {
 

@@ -2,16 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
-#include <map>
 
 #include <fmt/format.h>
 
 #include "boundary_mesh.h"
+#include "cell_preparation.h"
 #include "scanline.h"
 #include "trivox/error.h"
 #include "trivox/inverse/invert.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox::detail {
 
@@ -93,52 +92,27 @@ EdgeCoverage::EdgeCoverage(const Scene& scene, const SliceParams& params, const 
   // As the slicer's outlines are to the pixels (an eighth of the finest pitch), so these are
   // to the sub-samples.
   tolerance_mm_ = 0.125 * std::min({fine_.pitch_x_mm, fine_.pitch_y_mm, layout.layer_mm});
-  std::vector<int> of_volume(scene.volumes.size(), -1);
-  auto volume_trivariate = [&](int v) {
-    int& t = of_volume.at(static_cast<std::size_t>(v));
-    if (t < 0) {
-      t = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(
-          std::make_unique<Trivariate>(scene.volumes[static_cast<std::size_t>(v)].volume, tolerance_mm_, params.stop));
-    }
-    return t;
-  };
-  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
-  for (const Cell& c : scene.cells) {
+  const TrivariatePlan plan = plan_trivariates(scene);
+  for (const TrivariatePlan::Trivariate& t : plan.trivariates)
+    trivariates_.push_back(std::make_unique<Trivariate>(*t.volume, tolerance_mm_, params.stop));
+  // The same tessellations of the trim shells as the slicer's, at this grid's tolerance.
+  TrimShellMeshes shells(0.5 * tolerance_mm_, tolerance_mm_);
+  for (std::size_t i = 0; i < scene.cells.size(); ++i) {
+    const Cell& c = scene.cells[i];
     auto cd = std::make_unique<CellData>();
     cd->cell = &c;
-    if (c.scene_volume >= 0) {
-      cd->trivariate = volume_trivariate(c.scene_volume);
-    } else {
-      cd->trivariate = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(std::make_unique<Trivariate>(c.volume, tolerance_mm_, params.stop));
-    }
-    for (const TrimClause& clause : c.trim.clauses) {
+    cd->trivariate = plan.of_cell[i];
+    for (std::size_t j = 0; j < c.trim.clauses.size(); ++j) {
+      const TrimClause& clause = c.trim.clauses[j];
       CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1};
       if (clause.kind == TrimKind::kVolume) {
-        k.trivariate = volume_trivariate(clause.volume);
+        k.trivariate = plan.of_clause[i][j];
       } else {
-        // The same tessellations as the slicer's, at this grid's tolerance.
-        const bool param = clause.kind == TrimKind::kParametric;
-        const Volume& volume = c.volume;
-        const std::function<Vec3(Vec3)> through_volume = [&volume](Vec3 uvw) {
-          return volume.evaluate(volume.domain().clamp(uvw));
-        };
-        auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
-        if (!mesh) {
-          mesh = param
-                     ? std::make_shared<ShellMesh>(*clause.shell, 1e-4 * norm(volume.domain().hi - volume.domain().lo),
-                                                   through_volume, tolerance_mm_)
-                     : std::make_shared<ShellMesh>(*clause.shell, 0.5 * tolerance_mm_);
-        }
-        k.mesh = mesh;
-        if (param) {
-          auto& outline = outlines[{clause.shell.get(), &c}];
-          if (!outline) outline = std::make_shared<ShellMesh>(mesh->mapped(through_volume));
-          k.outline = outline;
-        } else {
+        k.mesh = shells.mesh(c, clause);
+        if (clause.kind == TrimKind::kParametric)
+          k.outline = shells.outline(c, clause);
+        else
           k.shell_slot = shell_slots_++;
-        }
       }
       cd->clauses.push_back(std::move(k));
     }

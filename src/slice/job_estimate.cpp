@@ -15,8 +15,8 @@
 #include "job_outputs.h"
 #include "job_parts.h"
 #include "trivox/error.h"
+#include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/output/material_sheet.h"
 #include "trivox/parallel.h"
 
 namespace trivox {

@@ -11,13 +11,13 @@
 #include <fmt/ranges.h>
 
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
-#include "trivox/output/bmp_image.h"
-#include "trivox/output/gcvf_package.h"
+#include "trivox/io/detail/sha256.h"
+#include "trivox/output/detail/bmp_image.h"
+#include "trivox/output/detail/gcvf_package.h"
+#include "trivox/output/detail/tiff_stack.h"
+#include "trivox/output/detail/vdb_stack.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
-#include "trivox/output/tiff_stack.h"
-#include "trivox/output/vdb_stack.h"
 
 namespace trivox {
 

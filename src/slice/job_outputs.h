@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/output/material_sheet.h"
 #include "trivox/slice/job.h"
 
 namespace trivox::detail {

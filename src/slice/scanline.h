@@ -33,7 +33,7 @@ void merge_spans(RowSpans& rows);
 // Keeps in `rows` only the pixels also in `mask` (both merged).
 void intersect_spans(RowSpans& rows, const RowSpans& mask);
 
-// The crossings of every row's centre line with a cut shell (trivox/trim/shell_mesh.h), by
+// The crossings of every row's centre line with a cut shell (trivox/trim/detail/shell_mesh.h), by
 // the rule of crosses_row (trivox/mesh/sliced_mesh.h), as ShellMesh::contains counts them, sorted per row: pixel (col,
 // row) is inside the shell when an odd number of its row's crossings lie beyond x_of_col(col).
 void shell_row_crossings(const std::vector<Segment2>& segments, const SliceLayout& layout,

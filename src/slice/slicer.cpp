@@ -2,18 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
-#include <map>
 
 #include <fmt/format.h>
 
 #include "boundary_mesh.h"
+#include "cell_preparation.h"
 #include "check.h"
 #include "coverage.h"
 #include "slicer_parts.h"
 #include "trivox/error.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 
@@ -119,33 +118,22 @@ void Slicer::check_model_fits(double finest_pitch_mm) const {
 // The cells, their trivariates (each with its global solver) and their trim clauses; the
 // meshes come later, once the layout gives their budgets.
 void Slicer::prepare_cells() {
-  // Named volumes get a trivariate when some cell uses them; the others one per cell.
-  std::vector<int> of_volume(scene_.volumes.size(), -1);
-  auto volume_trivariate = [&](int v) {
-    auto& t = of_volume.at(static_cast<std::size_t>(v));
-    if (t < 0) {
-      t = static_cast<int>(trivariates_.size());
-      const SceneVolume& sv = scene_.volumes[static_cast<std::size_t>(v)];
-      trivariates_.push_back(std::make_unique<Trivariate>(sv.volume));
-      if (sv.folds) trivariates_.back()->fold.emplace(sv.volume);
-    }
-    return t;
-  };
+  const detail::TrivariatePlan plan = detail::plan_trivariates(scene_);
+  for (const detail::TrivariatePlan::Trivariate& t : plan.trivariates) {
+    trivariates_.push_back(std::make_unique<Trivariate>(*t.volume));
+    if (t.folds) trivariates_.back()->fold.emplace(*t.volume);
+  }
   int shell_slots = 0;
-  for (const Cell& c : scene_.cells) {
+  for (std::size_t i = 0; i < scene_.cells.size(); ++i) {
+    const Cell& c = scene_.cells[i];
     auto cd = std::make_unique<CellData>();
     cd->cell = &c;
-    if (c.scene_volume >= 0) {
-      cd->trivariate = volume_trivariate(c.scene_volume);
-    } else {
-      cd->trivariate = static_cast<int>(trivariates_.size());
-      trivariates_.push_back(std::make_unique<Trivariate>(c.volume));
-      if (c.folds) trivariates_.back()->fold.emplace(c.volume);
-    }
-    for (const TrimClause& clause : c.trim.clauses) {
+    cd->trivariate = plan.of_cell[i];
+    for (std::size_t j = 0; j < c.trim.clauses.size(); ++j) {
+      const TrimClause& clause = c.trim.clauses[j];
       CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1, &clause};
       if (clause.kind == TrimKind::kVolume) {
-        k.trivariate = volume_trivariate(clause.volume);
+        k.trivariate = plan.of_clause[i][j];
         trivariates_[static_cast<std::size_t>(k.trivariate)]->traced_first = true;
         cd->model_space_clauses = true;
       } else if (clause.kind == TrimKind::kParametric) {
@@ -207,11 +195,12 @@ void Slicer::build_meshes(double finest_pitch_mm) {
 
   // Model-space shells decide pixels by their tessellation alone: half the outline
   // tolerance when one is given, else an eighth of the finest pitch. Shells shared by
-  // several clauses are tessellated once: model-space shells to the shell tolerance,
-  // parametric ones to 1e-4 of the cell's parameter box.
+  // several clauses are tessellated once (cell_preparation.h); a parametric trim's
+  // tessellation is also its outline once mapped through the cell's volume, refined until
+  // that image lies within the outline tolerance too.
   const double shell_tolerance_mm =
       params_.outline_tolerance_mm ? 0.5 * *params_.outline_tolerance_mm : 0.125 * finest_pitch_mm;
-  std::map<std::pair<const TrimShell*, const Cell*>, std::shared_ptr<const ShellMesh>> shells, outlines;
+  detail::TrimShellMeshes shells(shell_tolerance_mm, outline_tolerance_mm_);
   for (auto& cd : cells_) {
     const Cell& c = *cd->cell;
     const std::int64_t budget = budgets[static_cast<std::size_t>(cd->trivariate)];
@@ -219,32 +208,12 @@ void Slicer::build_meshes(double finest_pitch_mm) {
       if (k.kind == TrimKind::kVolume) continue;
       if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while meshing a trim shell");
       const TrimClause& clause = *k.source;
-      const bool param = clause.kind == TrimKind::kParametric;
-      auto& mesh = shells[{clause.shell.get(), param ? &c : nullptr}];
-      // A parametric trim's tessellation is also its outline once mapped through the cell's
-      // volume (clamped to its domain, so a trim reaching past the domain's faces maps onto
-      // them): it is refined until that image lies within the outline tolerance too.
-      const Volume& volume = c.volume;
-      const std::function<Vec3(Vec3)> through_volume = [&volume](Vec3 uvw) {
-        return volume.evaluate(volume.domain().clamp(uvw));
-      };
-      if (!mesh) {
-        const int max_samples = shell_samples(*clause.shell, budget);
-        const double tolerance = param ? 1e-4 * norm(c.volume.domain().hi - c.volume.domain().lo) : shell_tolerance_mm;
-        auto m = param ? std::make_shared<ShellMesh>(*clause.shell, tolerance, through_volume, outline_tolerance_mm_,
-                                                     max_samples)
-                       : std::make_shared<ShellMesh>(*clause.shell, tolerance, max_samples);
-        if (m->open_edges() > 0)
-          throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene_.source, c.name,
-                                  clause.shell->name, m->open_edges()));
-        mesh = std::move(m);
-      }
-      k.mesh = mesh;
-      if (param && clause.side == TrimSide::kInside) {
-        auto& outline = outlines[{clause.shell.get(), &c}];
-        if (!outline) outline = std::make_shared<ShellMesh>(mesh->mapped(through_volume));
-        k.outline = outline;
-      }
+      k.mesh = shells.mesh(c, clause, shell_samples(*clause.shell, budget));
+      if (k.mesh->open_edges() > 0)
+        throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene_.source, c.name,
+                                clause.shell->name, k.mesh->open_edges()));
+      if (clause.kind == TrimKind::kParametric && clause.side == TrimSide::kInside)
+        k.outline = shells.outline(c, clause);
     }
   }
 }

@@ -15,7 +15,7 @@
 #include "trivox/inverse/invert.h"
 #include "trivox/mesh/sliced_mesh.h"
 #include "trivox/slice/slicer.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 

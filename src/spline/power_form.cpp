@@ -3,7 +3,7 @@
 #include <array>
 #include <vector>
 
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 
 namespace trivox::detail {
 

@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 
 #include "trivox/error.h"
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 #include "trivox/spline/refine.h"
 
 namespace trivox {

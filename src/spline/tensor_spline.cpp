@@ -7,7 +7,7 @@
 
 #include "trivox/error.h"
 #include "trivox/limits.h"
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 
 namespace trivox {
 

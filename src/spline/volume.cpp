@@ -7,7 +7,7 @@
 #include "derivative_bounds.h"
 #include "power_form.h"
 #include "trivox/error.h"
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 #include "volume_kernels.h"
 
 namespace trivox {

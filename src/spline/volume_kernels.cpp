@@ -11,7 +11,7 @@
 #include <cmath>
 #include <utility>
 
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 #include "volume_kernels.h"
 
 #if HWY_ARCH_X86

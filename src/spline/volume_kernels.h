@@ -8,7 +8,7 @@
 #include <cstddef>
 
 #include "trivox/math.h"
-#include "trivox/spline/homogeneous.h"
+#include "trivox/spline/detail/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
 namespace trivox::detail {

@@ -9,8 +9,8 @@
 #include <fmt/format.h>
 
 #include "trivox/error.h"
-#include "trivox/mesh/mesh_check.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/mesh/detail/mesh_check.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 

@@ -1,4 +1,4 @@
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 #include <algorithm>
 #include <cmath>

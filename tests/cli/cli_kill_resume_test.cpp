@@ -25,7 +25,7 @@
 
 #include "cli/cli_run.h"
 #include "slice/job_fixtures.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 #include "trivox/slice/manifest.h"

@@ -9,7 +9,7 @@
 
 #include "cli/cli_run.h"
 #include "slice/job_fixtures.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/slice/manifest.h"
 
 namespace trivox::test {

@@ -11,10 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include "io/topology.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
-#include "trivox/io/topology.h"
 
 namespace trivox {
 namespace {

@@ -1,5 +1,5 @@
 // SHA-256 against the FIPS 180-4 example digests, and the file digest against the string one.
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 
 #include <filesystem>
 #include <fstream>

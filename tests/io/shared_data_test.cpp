@@ -22,11 +22,11 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "io/topology.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/io/model.h"
-#include "trivox/io/topology.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/volume.h"
 

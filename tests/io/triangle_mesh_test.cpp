@@ -11,7 +11,7 @@
 #include "trivox/error.h"
 #include "trivox/io/triangle_mesh.h"
 #include "trivox/limits.h"
-#include "trivox/mesh/mesh_check.h"
+#include "trivox/mesh/detail/mesh_check.h"
 
 namespace trivox {
 namespace {

@@ -1,5 +1,5 @@
 // Composition rules (composite_material.h) against values computed by hand.
-#include "trivox/material/composite_material.h"
+#include "trivox/material/detail/composite_material.h"
 
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 
 #include "material/material_test_util.h"
 #include "trivox/error.h"
-#include "trivox/material/constant_material.h"
+#include "trivox/material/detail/constant_material.h"
 #include "trivox/material/expression_material.h"
 
 namespace trivox {

@@ -13,15 +13,15 @@
 #include <gtest/gtest.h>
 
 #include "material/material_test_util.h"
-#include "trivox/material/composite_material.h"
-#include "trivox/material/constant_material.h"
+#include "trivox/material/detail/composite_material.h"
+#include "trivox/material/detail/constant_material.h"
+#include "trivox/material/detail/field_scalar_material.h"
+#include "trivox/material/detail/scalar_gradient_material.h"
+#include "trivox/material/detail/spline_field_material.h"
+#include "trivox/material/detail/twisting_curves_material.h"
+#include "trivox/material/detail/volume_texture.h"
 #include "trivox/material/expression_material.h"
-#include "trivox/material/field_scalar_material.h"
 #include "trivox/material/porous_tiles_material.h"
-#include "trivox/material/scalar_gradient_material.h"
-#include "trivox/material/spline_field_material.h"
-#include "trivox/material/twisting_curves_material.h"
-#include "trivox/material/volume_texture.h"
 
 namespace trivox {
 namespace {

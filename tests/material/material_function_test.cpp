@@ -8,12 +8,12 @@
 #include "material/material_test_util.h"
 #include "trivox/error.h"
 #include "trivox/material/checked_material.h"
-#include "trivox/material/constant_material.h"
+#include "trivox/material/detail/constant_material.h"
+#include "trivox/material/detail/scalar_gradient_material.h"
+#include "trivox/material/detail/spline_field_material.h"
+#include "trivox/material/detail/twisting_curves_material.h"
 #include "trivox/material/expression_material.h"
 #include "trivox/material/porous_tiles_material.h"
-#include "trivox/material/scalar_gradient_material.h"
-#include "trivox/material/spline_field_material.h"
-#include "trivox/material/twisting_curves_material.h"
 
 namespace trivox {
 namespace {

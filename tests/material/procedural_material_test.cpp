@@ -7,8 +7,8 @@
 
 #include "material/material_test_util.h"
 #include "trivox/error.h"
+#include "trivox/material/detail/twisting_curves_material.h"
 #include "trivox/material/porous_tiles_material.h"
-#include "trivox/material/twisting_curves_material.h"
 
 namespace trivox {
 namespace {

@@ -7,9 +7,9 @@
 #include "support/test_support.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
-#include "trivox/material/constant_material.h"
-#include "trivox/material/scalar_gradient_material.h"
-#include "trivox/material/spline_field_material.h"
+#include "trivox/material/detail/constant_material.h"
+#include "trivox/material/detail/scalar_gradient_material.h"
+#include "trivox/material/detail/spline_field_material.h"
 
 namespace trivox {
 namespace {

@@ -1,6 +1,6 @@
 // Volume images and textures: the readers, the wrap modes and the sampling, against values
 // computed by hand.
-#include "trivox/material/volume_texture.h"
+#include "trivox/material/detail/volume_texture.h"
 
 #include <gtest/gtest.h>
 #include <tiffio.h>

@@ -1,4 +1,4 @@
-// The checks of a triangle mesh (trivox/mesh/mesh_check.h): each defect made on purpose,
+// The checks of a triangle mesh (trivox/mesh/detail/mesh_check.h): each defect made on purpose,
 // counted, with its example triangle; the intersection test on its own, at the boundary of
 // its tolerance; the orientation repair; the signed cut (SlicedMesh::cut with directions).
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <random>
 
 #include "mesh/mesh_fixtures.h"
-#include "trivox/mesh/mesh_check.h"
+#include "trivox/mesh/detail/mesh_check.h"
 #include "trivox/mesh/sliced_mesh.h"
 
 namespace trivox {

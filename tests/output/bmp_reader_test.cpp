@@ -1,7 +1,7 @@
 // The 1-bit BMP reader `verify` decodes the legacy bitmaps with: it gives back every pixel the
 // legacy writer encoded, for widths on and off the byte and row-padding boundaries, reads
 // top-down bitmaps too, and refuses what is not such a bitmap, naming the file and the field.
-#include "trivox/output/bmp_image.h"
+#include "trivox/output/detail/bmp_image.h"
 
 #include <cstdint>
 #include <string>

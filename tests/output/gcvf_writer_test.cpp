@@ -21,7 +21,7 @@
 #include "output/zip_writer.h"
 #include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"

@@ -22,7 +22,7 @@
 #include "slice/job_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
-#include "trivox/output/gcvf_package.h"
+#include "trivox/output/detail/gcvf_package.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
 #include "trivox/scene/scene.h"

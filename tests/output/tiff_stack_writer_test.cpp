@@ -12,9 +12,9 @@
 
 #include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
+#include "trivox/output/detail/tiff_stack.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
-#include "trivox/output/tiff_stack.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_folder.h"
 

@@ -15,9 +15,9 @@
 
 #include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
+#include "trivox/output/detail/vdb_stack.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
-#include "trivox/output/vdb_stack.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_folder.h"
 #include "trivox/slice/slicer.h"

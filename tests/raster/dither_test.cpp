@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "raster/blue_noise.h"
 #include "raster/dither_kernels.h"
 #include "raster/skin.h"
 #include "trivox/error.h"
-#include "trivox/raster/blue_noise.h"
 
 namespace trivox {
 namespace {

@@ -6,7 +6,7 @@
 
 #include "mesh/mesh_fixtures.h"
 #include "scene/scene_test_util.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 
 namespace trivox {
 namespace {

@@ -12,7 +12,7 @@
 
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
-#include "trivox/output/vdb_stack.h"
+#include "trivox/output/detail/vdb_stack.h"
 #include "trivox/slice/job.h"
 
 namespace trivox {

@@ -16,7 +16,7 @@
 #include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 #include "trivox/slice/job.h"

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "support/test_support.h"
-#include "trivox/material/constant_material.h"
-#include "trivox/material/spline_field_material.h"
+#include "trivox/material/detail/constant_material.h"
+#include "trivox/material/detail/spline_field_material.h"
 #include "trivox/printer/printer_profile.h"
 #include "trivox/scene/scene.h"
 

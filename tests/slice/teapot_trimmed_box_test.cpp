@@ -16,7 +16,7 @@
 #include "trivox/io/model.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/slicer.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 namespace {

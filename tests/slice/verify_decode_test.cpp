@@ -17,7 +17,7 @@
 
 #include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
-#include "trivox/io/sha256.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_folder.h"
 #include "trivox/slice/manifest.h"

@@ -1,4 +1,4 @@
-#include "trivox/spline/basis.h"
+#include "trivox/spline/detail/basis.h"
 
 #include <random>
 #include <vector>

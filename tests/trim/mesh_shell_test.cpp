@@ -1,4 +1,4 @@
-// Mesh trims as shells (trivox/trim/shell_mesh.h): the even-odd rule against exact rays; the
+// Mesh trims as shells (trivox/trim/detail/shell_mesh.h): the even-odd rule against exact rays; the
 // winding-number rule's fast path (signed crossings of the mesh closed by cones, the cones'
 // share only near them) against the generalized winding number summed over every triangle,
 // on meshes with holes; the orientation repair; overlapping parts and cavities.
@@ -7,7 +7,7 @@
 #include <random>
 
 #include "mesh/mesh_fixtures.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 namespace {

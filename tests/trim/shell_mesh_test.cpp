@@ -6,7 +6,7 @@
 #include "support/test_support.h"
 #include "trim/trim_fixtures.h"
 #include "trivox/io/model.h"
-#include "trivox/trim/shell_mesh.h"
+#include "trivox/trim/detail/shell_mesh.h"
 
 namespace trivox {
 namespace {

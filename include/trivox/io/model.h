@@ -95,7 +95,7 @@ void write_g2(std::ostream& out, const Model& model);
 // Writes every patch as a G+Smo <Geometry> (BSpline, Nurbs, TensorBSpline2/3,
 // TensorNurbs2/3, id = the patch's index; a periodic direction as the unclamped basis it
 // evaluates as) and, when all patches have the same number of parameters, a <MultiPatch>
-// with the interfaces and boundary sides find_topology (io/topology.h) finds. Numbers in the
+// with the interfaces and boundary sides find_topology (src/io/topology.h) finds. Numbers in the
 // shortest form that reads back to the same double: read_gismo_xml gives the model back
 // exactly (names aside: G+Smo stores none).
 void write_gismo_xml(std::ostream& out, const Model& model);

@@ -1,5 +1,5 @@
 // A triangle mesh cut by horizontal planes: the one mesh type behind a cell's outline
-// (slice/boundary_mesh.h), a trimming shell (trim/shell_mesh.h) and any closed triangle
+// (slice/boundary_mesh.h), a trimming shell (trim/detail/shell_mesh.h) and any closed triangle
 // mesh used as a trim.
 //
 // Coordinates are model space (mm) for outlines and model-space shells, or parameter space

@@ -20,7 +20,7 @@
 // neighbours drops its error.
 //
 // Blue-noise thresholding (DitherMethod::kBlueNoise): each pixel compares one threshold t in
-// [0, 1), read from a 64 x 64 blue-noise tile (blue_noise.h) at its position, with the
+// [0, 1), read from a 64 x 64 blue-noise tile (src/raster/blue_noise.h) at its position, with the
 // running sums of its components in label order, and takes the first component whose
 // running sum exceeds t. Each pixel depends only on its own fractions and its position
 // (x, y, layer), never on its neighbours or the scan, so the method is trivially parallel

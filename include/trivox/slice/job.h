@@ -104,7 +104,7 @@ class ProgressSink {
 };
 
 // Slices and writes the layers, keeping the manifest up to date, then the colour-to-material
-// sheet materials.csv (output/material_sheet.h); writes stats.json last
+// sheet materials.csv (output/detail/material_sheet.h); writes stats.json last
 // (stats.shard-I-of-N.json for a shard). Throws trivox::Error for settings the printer cannot
 // take (more materials than its colour limit), for a refused resume and for a folder another
 // job is writing into (JobParams::folder_lock, job_lock.h), IoError when the

@@ -8,7 +8,7 @@
 //    triangle mesh there (a mesh trim: a mesh file's triangles);
 //  * kParametric: the cell's (u, v, w) inside (or outside) a closed set of surfaces drawn in
 //    V's parametric domain.
-// Shells are decided on a watertight tessellation (shell_mesh.h) within a tolerance far
+// Shells are decided on a watertight tessellation (detail/shell_mesh.h) within a tolerance far
 // below a pixel.
 #pragma once
 
@@ -29,7 +29,7 @@ std::string_view to_string(TrimKind k) noexcept;
 
 // A closed set of surfaces (two parameters, three coordinates each): model space (mm) for a
 // shell trim, the (u, v, w) of the cell's volume for a parametric trim. Closed means the
-// surfaces meet along their edges with no gap (shell_mesh.h checks it).
+// surfaces meet along their edges with no gap (detail/shell_mesh.h checks it).
 // A surface restricted to loops of curves in its parameter space (a trimmed surface of an
 // IRIT MODEL). The kept part is the even-odd interior of the loops.
 struct TrimmedSurface {
@@ -46,7 +46,7 @@ struct TrimmedSurface {
 // How a mesh trim decides inside and outside (docs/SCENE.md, "Mesh trims").
 enum class InsideRule {
   // The even-odd rule on the mesh's cut, exact per pixel; the mesh must be closed (the
-  // scene reader checks it with trivox/mesh/mesh_check.h).
+  // scene reader checks it with trivox/mesh/detail/mesh_check.h).
   kEvenOdd,
   // The generalized winding number at least 1/2, after the orientation is repaired: tolerates
   // gaps, flipped triangles and parts that overlap (their union is inside).
@@ -58,7 +58,7 @@ struct TrimShell {
   std::string name;  // for messages: the file it came from, or the scene pointer
   std::vector<TensorSpline> surfaces;
   // Trimmed surfaces. Their tessellations meet only within the accuracy of the trimming
-  // curves, so a shell with any is decided by a test robust to hairline gaps (shell_mesh.h).
+  // curves, so a shell with any is decided by a test robust to hairline gaps (detail/shell_mesh.h).
   std::vector<TrimmedSurface> trimmed;
   // A triangle mesh instead of surfaces (a mesh trim), already placed, and its rule.
   std::shared_ptr<const SlicedMesh> mesh;

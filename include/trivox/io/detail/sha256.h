@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // SHA-256 digests (FIPS 180-4) of bytes and files, as lowercase hex: the same text that
 // `sha256sum FILE` prints, so a user can check any file of a job by hand. Used for the job
 // manifest (docs/FORMATS.md, "manifest.json"): the hashes of the scene, its models and every

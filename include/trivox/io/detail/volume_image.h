@@ -1,5 +1,7 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Volume images: 3D arrays of samples with one or more channels, the data behind volumetric
-// textures (material/volume_texture.h). A 2D image is a volume one slice deep.
+// textures (material/detail/volume_texture.h). A 2D image is a volume one slice deep.
 //
 // Values are stored as float, normalised on reading: unsigned 8- and 16-bit samples are
 // divided by 255 and 65535 (so [0, 1]); 32-bit float samples are kept as they are.

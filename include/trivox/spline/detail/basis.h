@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // B-spline basis functions and their derivatives (The NURBS Book, Algorithms A2.2, A2.3).
 // Allocation-free: callers pass output arrays of at least the sizes stated.
 #pragma once

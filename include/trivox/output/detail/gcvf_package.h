@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Reading the GrabCAD Voxel Print package the "gcvf" output writes (layer_writer.h): a zip
 // archive of the layer PNGs and ConfigFile.xml (docs/FORMATS.md, "GrabCAD Voxel Print
 // package"), for `trivox verify` and for tests.

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // The checks a triangle mesh passes before it decides inside and outside by the even-odd
 // rule (a mesh trim, trivox/trim/shell_mesh.h), and the repair of its orientation.
 //

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // TwistingCurvesMaterial: the chalice's twisting coloured curves (paper, Section 4). In every
 // plane w = const of the cell's parametric domain (mapped onto [0,1]^3) a few points carry
 // colours; with w the points turn about a centre and/or shift. A sample whose (u,v) lies

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // SplineFieldMaterial: M(u,v,w) given by a trivariate B-spline or NURBS with k components
 // (any orders, its own knots; e.g. a refinement of the cell's spline space, as in the
 // paper's Section 3). Component c is the fraction of material component_material[c].

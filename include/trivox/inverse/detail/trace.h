@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // The building blocks of traced inversion that the slicer's tracer (slice/cell_tracer.cpp)
 // takes from the inverse layer: a first-order prediction from a solved neighbour, Newton
 // from it, the check of one Newton step by Taylor's remainder, and the outward direction of

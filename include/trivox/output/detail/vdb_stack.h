@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Reading the OpenVDB file the "vdb" output writes (layer_writer.h): one FloatGrid per
 // material, named after it, value 1 on the voxels that hold the material and inactive
 // elsewhere, with a linear transform from index space (column, rows counted from the bottom,

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // A scalar source from a spline field (an analysis result such as a stress or temperature
 // trivariate): one of its components, or the Euclidean length of its vector of components.
 // It has one output (num_materials() == 1), read as a number by the compositions of

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // ConstantMaterial: the same fractions everywhere in the cell.
 #pragma once
 

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Composition of material functions: new functions built from others, so that textures,
 // fields, expressions and procedural kinds combine without new code for each pairing.
 //
@@ -23,8 +25,8 @@
 #include <memory>
 #include <vector>
 
+#include "trivox/material/detail/scalar_gradient_material.h"
 #include "trivox/material/material_function.h"
-#include "trivox/material/scalar_gradient_material.h"
 
 namespace trivox {
 

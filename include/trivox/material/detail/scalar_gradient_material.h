@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // ScalarGradientMaterial: a scalar trivariate field s(u,v,w) (point dimension 1, e.g. an
 // IRIT `E1` trivariate) mapped through a piecewise-linear gradient of materials, like a
 // colour ramp: between two stops the fractions are interpolated linearly in s; below the

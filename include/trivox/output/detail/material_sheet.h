@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // The colour-to-material sheet written beside every job's images (materials.csv): which
 // colour of the Voxel Print images stands for which material, so that the materials can be
 // assigned in the printer software without opening the scene file.

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Homogeneous control points as the spline layer stores them, and their four-lane vector
 // form: what the inverse layer's Bezier nets (inverse/bezier_net.cpp) share with the
 // evaluation kernels (spline/volume_kernels.h). Details of the two layers' kernels

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Reading the multi-page TIFF stack the "tiff" output writes (layer_writer.h): one 8-bit
 // palette page per job layer, pixel value = label (0 void, 1 + j material j), Adobe Deflate
 // compressed (docs/FORMATS.md, "Multi-page TIFF").

@@ -1,4 +1,6 @@
-// Volumetric textures: a volume image (io/volume_image.h) sampled over the parametric domain
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
+// Volumetric textures: a volume image (io/detail/volume_image.h) sampled over the parametric domain
 // of a cell, and the material function that reads material fractions from its channels.
 //
 // Coordinates: the cell's parameters are normalised to [0,1]^3 (as for the procedural kinds)
@@ -19,7 +21,7 @@
 #include <span>
 #include <vector>
 
-#include "trivox/io/volume_image.h"
+#include "trivox/io/detail/volume_image.h"
 #include "trivox/material/material_function.h"
 
 namespace trivox {

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // A closed trimming shell (trim.h) as a watertight triangle mesh, and the point-in-solid
 // test on it.
 //

@@ -1,3 +1,5 @@
+// Internal to trivox, not part of its stable interface (docs/ARCHITECTURE.md, "Public surface").
+
 // Reading the 1-bit BMP files of the "legacy" output (layer_writer.h, docs/FORMATS.md,
 // "Legacy bitmap method"), for `trivox verify` and for tests: uncompressed Windows bitmaps
 // with a BITMAPINFOHEADER (or a later header that extends it), one bit per pixel, rows
