@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 
 #include "bezier_net.h"
 #include "trivox/spline/detail/homogeneous.h"
@@ -30,6 +31,14 @@ inline Interval operator*(Interval a, Interval b) {
 }
 inline Interval divide_positive(Interval a, Interval b) {  // b.lo > 0
   return a * Interval{1.0 / b.hi, 1.0 / b.lo};
+}
+
+// A control point as a V4 (this target's copy of spline/detail/homogeneous.h's load: a
+// function returning a V4 is not called across targets, whose conventions for it differ).
+inline V4 load_point(const H& p) noexcept {
+  V4 v;
+  std::memcpy(&v, p.data(), sizeof v);
+  return v;
 }
 
 // Calls fn(first, step) once per line of control points along direction d, the other two
@@ -143,9 +152,9 @@ bool net_jacobian_bounds(const BezierNet& net, Mat3& lo, Mat3& hi, const Box3& x
       const double scale = (n - 1) / (net.box.hi[d] - net.box.lo[d]);
       // Each line's consecutive differences.
       for_each_line(net, d, [&](std::size_t first, std::size_t step) {
-        V4 previous = load(net.h[first]);
+        V4 previous = load_point(net.h[first]);
         for (int i = 1; i < n; ++i) {
-          const V4 next = load(net.h[first + static_cast<std::size_t>(i) * step]);
+          const V4 next = load_point(net.h[first + static_cast<std::size_t>(i) * step]);
           const V4 v = scale * (next - previous);
           dlo = v < dlo ? v : dlo;
           dhi = v > dhi ? v : dhi;

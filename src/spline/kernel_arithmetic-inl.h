@@ -34,13 +34,21 @@ inline double fused_multiply_add(double a, double b, double c) noexcept {
 // c + a * b in each of the four lanes.
 inline V4 multiply_add(double a, const V4& b, const V4& c) noexcept {
 #if TRIVOX_KERNEL_FUSED
-  return std::bit_cast<V4>(_mm256_fmadd_pd(_mm256_set1_pd(a), std::bit_cast<__m256d>(b), std::bit_cast<__m256d>(c)));
+  return _mm256_fmadd_pd(_mm256_set1_pd(a), b, c);  // __m256d is V4's type
 #else
   return a * b + c;
 #endif
 }
 
 #undef TRIVOX_KERNEL_FUSED
+
+// A control point as a V4. This target's own copy of spline/detail/homogeneous.h's load: a
+// function returning a V4 is not called across targets (their conventions for it differ).
+inline V4 load_point(const H& p) noexcept {
+  V4 v;
+  std::memcpy(&v, p.data(), sizeof v);
+  return v;
+}
 
 // The Euclidean value and Jacobian from the homogeneous value S and its partials, each
 // partial first scaled by `scale` (the chain rule of a local coordinate): the quotient rule

@@ -8,8 +8,8 @@
 #include <hwy/highway.h>
 
 #include <array>
-#include <bit>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "power_form.h"

@@ -85,7 +85,7 @@ Vec3 evaluate_kernel(const VolumeData& d, Vec3 uvw) noexcept {
       const H* row = d.points + static_cast<std::size_t>(bw.first + c) * d.stride_w +
                      static_cast<std::size_t>(bv.first + b) * d.stride_v + static_cast<std::size_t>(bu.first);
       V4 line{};
-      for (int a = 0; a < ku; ++a) line = multiply_add(bu.N[a], load(row[a]), line);
+      for (int a = 0; a < ku; ++a) line = multiply_add(bu.N[a], load_point(row[a]), line);
       plane = multiply_add(bv.N[b], line, plane);
     }
     acc = multiply_add(bw.N[c], plane, acc);
@@ -112,7 +112,7 @@ void evaluate_jacobian_kernel(const VolumeData& d, Vec3 uvw, Vec3& value, Mat3& 
                      static_cast<std::size_t>(bv.first + b) * d.stride_v + static_cast<std::size_t>(bu.first);
       V4 L{}, Lu{};
       for (int a = 0; a < ku; ++a) {
-        const V4 q = load(row[a]);
+        const V4 q = load_point(row[a]);
         L = multiply_add(bu.N[a], q, L);
         Lu = multiply_add(bu.dN[a], q, Lu);
       }

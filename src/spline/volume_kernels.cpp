@@ -7,8 +7,8 @@
 #include <hwy/highway.h>
 
 #include <array>
-#include <bit>
 #include <cmath>
+#include <cstring>
 #include <utility>
 
 #include "trivox/spline/detail/basis.h"
