@@ -7,6 +7,18 @@ target_compile_options(trivox_options INTERFACE
 # sqrt and the like need not set errno (nothing reads it): the compiler can then use the
 # instruction alone, and vectorize it, with the same correctly rounded results.
 target_compile_options(trivox_options INTERFACE -fno-math-errno)
+# The compiler fuses no multiply and add by itself (its choice depends on the target and on
+# inlining, so the numbers would depend on the processor the kernels were compiled for); the
+# kernels fuse where they say so (src/spline/kernel_arithmetic-inl.h). Slices are then the same
+# bytes from every build and every SIMD target that has the fused instruction.
+target_compile_options(trivox_options INTERFACE -ffp-contract=off)
+# The SIMD targets the kernels are compiled for: the portable fallback (EMU128), SSE4, AVX2 and
+# AVX-512 (Highway's AVX3); SSSE3 and AVX3_DL would add compile time and nothing these kernels use.
+# The kernels pass four-double vectors (V4) by value only among functions compiled for one
+# target (what crosses targets, spline/homogeneous.h's load, is always inlined), so GCC's note
+# that such a vector's calling convention differs with and without AVX concerns no call here.
+target_compile_options(trivox_options INTERFACE -Wno-psabi)
+target_compile_definitions(trivox_options INTERFACE "HWY_DISABLED_TARGETS=(HWY_SSSE3|HWY_AVX3_DL)")
 if(TRIVOX_WERROR)
   target_compile_options(trivox_options INTERFACE -Werror)
 endif()

@@ -15,6 +15,8 @@ packages=(
   libfmt-dev libpugixml-dev nlohmann-json3-dev libcli11-dev libtbb-dev
   libpng-dev zlib1g-dev libtiff-dev libmuparser-dev libeigen3-dev libssl-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the evaluation kernels' SIMD targets, chosen at run time (docs/ARCHITECTURE.md)
+  libhwy-dev
   # the "vdb" output: OpenVDB and the Boost headers its headers include
   libopenvdb-dev libboost-dev
   # mesh trims: STL, OBJ and PLY through assimp, 3MF through lib3mf (assimp's 3MF importer

@@ -8,6 +8,7 @@
 #include <zlib.h>
 
 #include <fmt/format.h>
+#include <hwy/highway.h>
 #include <muParserDef.h>
 #include <nlohmann/json.hpp>
 #include <pugixml.hpp>
@@ -48,6 +49,7 @@ BuildInfo build_info() {
   muparser = muparser.substr(0, muparser.find(' '));
   b.libraries = {
       {"fmt", fmt::format("{}.{}.{}", FMT_VERSION / 10000, FMT_VERSION / 100 % 100, FMT_VERSION % 100)},
+      {"Highway", fmt::format("{}.{}.{}", HWY_MAJOR, HWY_MINOR, HWY_PATCH)},
       {"libpng", with_runtime(PNG_LIBPNG_VER_STRING, png_get_libpng_ver(nullptr))},
       {"libtiff", fmt::format("{}.{}.{}", TIFFLIB_MAJOR_VERSION, TIFFLIB_MINOR_VERSION, TIFFLIB_MICRO_VERSION)},
       {"muParser", muparser},

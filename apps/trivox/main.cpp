@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <new>
@@ -13,10 +14,12 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli_errors.h"
 #include "commands.h"
 #include "trivox/error.h"
+#include "trivox/simd.h"
 #include "trivox/version.h"
 
 namespace {
@@ -34,6 +37,8 @@ std::string version_text() {
   std::string text = fmt::format("trivox {}\ncommit: {}\nbuild type: {}\ncompiler: {}\nlibraries:", b.version, b.commit,
                                  b.build_type, b.compiler);
   for (const auto& [name, version] : b.libraries) text += fmt::format("\n  {} {}", name, version);
+  // The evaluation kernels' SIMD target in use and those this processor could run.
+  text += fmt::format("\nSIMD: {} (available: {})", trivox::simd_target(), fmt::join(trivox::simd_targets(), ", "));
   return text;
 }
 
@@ -78,6 +83,8 @@ int main(int argc, char** argv) {
         "B-spline and NURBS volumes.",
         "trivox"};
     app.require_subcommand(1);
+    // TRIVOX_SIMD restricts the kernels to one SIMD target (docs/CLI.md, "Environment").
+    if (const char* simd = std::getenv("TRIVOX_SIMD"); simd != nullptr && *simd != '\0') trivox::use_simd_target(simd);
     for (const AddCommand add : kCommands) add(app);
     // --version on the program and on every subcommand (`trivox slice --version` too).
     const char* version_help = "Print the version, git commit, build type, compiler and libraries, and exit";

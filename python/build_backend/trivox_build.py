@@ -7,7 +7,7 @@ requirements, and pip's isolated build environment stays empty.
 
 The wheel is built for the interpreter that runs pip (Python3_EXECUTABLE is set to it), in
 build/pip-<python tag> below the source folder, which later installs reuse. CMake cache
-settings can be passed as ``pip install . --config-settings=cmake.define.TRIVOX_NATIVE=OFF``
+settings can be passed as ``pip install . --config-settings=cmake.define.TRIVOX_NATIVE=ON``
 (any ``cmake.define.NAME=VALUE``); ``--config-settings=build-dir=DIR`` moves the build.
 """
 

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bindings.h"
+#include "trivox/simd.h"
 #include "trivox/version.h"
 
 PYBIND11_MODULE(_trivox, m) {
@@ -17,4 +18,13 @@ PYBIND11_MODULE(_trivox, m) {
   tp::bind_construct(m);
   tp::bind_scene(m);
   tp::bind_slice(m);
+  // The evaluation kernels' SIMD targets (docs/PYTHON.md, "Evaluation and inversion").
+  m.def("simd_targets", &trivox::simd_targets,
+        "The SIMD targets this processor runs in this build, best first (e.g. ['avx512', 'avx2', 'sse4', "
+        "'baseline']).");
+  m.def("simd_target", &trivox::simd_target, "The SIMD target the evaluation kernels run on now.");
+  m.def(
+      "use_simd_target", [](const std::string& name) { trivox::use_simd_target(name); }, pybind11::arg("name"),
+      "Restricts the kernels to one of simd_targets() ('best' lifts it); volumes built afterwards use it. "
+      "Raises InputError for a name this processor cannot run.");
 }

@@ -95,3 +95,24 @@ def test_importing_trivox_needs_no_numpy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == trivox.__version__
     assert trivox.__version__.count(".") == 2
+
+
+def test_simd_targets_can_be_chosen_and_evaluate_alike(column):
+    targets = trivox.simd_targets()
+    assert targets and trivox.simd_target() == targets[0]
+    p = np.array([[1.0, 1.5, 2.0], [0.25, 0.5, 0.75]])
+    try:
+        values = {}
+        for t in targets:
+            trivox.use_simd_target(t)
+            assert trivox.simd_target() == t
+            # A volume built now evaluates on target t.
+            v = trivox.Volume(column.spline)
+            values[t] = v.evaluate(p)
+        for t in targets:
+            np.testing.assert_allclose(values[t], values[targets[0]], rtol=0, atol=1e-12)
+        with pytest.raises(trivox.InputError, match="unknown target 'avx3'"):
+            trivox.use_simd_target("avx3")
+    finally:
+        trivox.use_simd_target("best")
+    assert trivox.simd_target() == targets[0]

@@ -8,6 +8,10 @@ import numpy.typing as npt
 
 __version__: str
 
+def simd_targets() -> List[str]: ...
+def simd_target() -> str: ...
+def use_simd_target(name: str) -> None: ...
+
 _Path = Union[str, PathLike[str]]
 _Array = npt.ArrayLike
 _Dir = Union[int, str]

@@ -30,17 +30,9 @@ struct BezierNet {
     return h[static_cast<std::size_t>(i + order[0] * (j + order[1] * k))];
   }
 
-  // Calls fn(first, step) once per line of control points along direction d, the other two
-  // directions in storage order: the line's points are h[first + i * step], i < order[d].
-  template <class Fn>
-  void for_each_line(int d, Fn&& fn) const {
-    const std::size_t stride[3] = {1, static_cast<std::size_t>(order[0]),
-                                   static_cast<std::size_t>(order[0]) * static_cast<std::size_t>(order[1])};
-    const int a = d == 0 ? 1 : 0, b = d == 2 ? 1 : 2;
-    for (int s = 0; s < order[static_cast<std::size_t>(b)]; ++s)
-      for (int t = 0; t < order[static_cast<std::size_t>(a)]; ++t)
-        fn(static_cast<std::size_t>(t) * stride[a] + static_cast<std::size_t>(s) * stride[b], stride[d]);
-  }
+  // The per-box work of the global solver below (bounds, max_along, halve_into, extents,
+  // jacobian_bounds) is compiled once per SIMD target in bezier_net_kernels.cpp; each call
+  // runs the best target the processor has.
 
   // Box of the Euclidean control points: contains the image of the net's box.
   Box3 bounds() const;

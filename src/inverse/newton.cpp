@@ -1,4 +1,5 @@
 #include "newton.h"
+#include "function_clones.h"
 
 #include <cmath>
 
@@ -25,7 +26,8 @@ double singular_threshold(const Mat3& J) noexcept {
 }
 }  // namespace
 
-std::optional<double> certified_step_residual(const Volume& volume, Vec3 p, const Mat3& J, Vec3 r0, Vec3 d) noexcept {
+TRIVOX_CLONED std::optional<double> certified_step_residual(const Volume& volume, Vec3 p, const Mat3& J, Vec3 r0,
+                                                            Vec3 d) noexcept {
   const std::optional<Mat3>& M = volume.second_derivative_bounds();
   if (!M) return std::nullopt;
   // V(t + d) - x = (V(t) + J d - x) + R with |R| <= 0.5 sum_ij |d_i| |d_j| M(i, j) on the
@@ -45,8 +47,8 @@ std::optional<double> certified_step_residual(const Volume& volume, Vec3 p, cons
 // (projected Newton); if the iterate then cannot move, x lies beyond that face. A step that
 // increases the residual is halved (backtracking), which is checked lazily with the next
 // evaluation so that the common, well-behaved case costs one evaluation per iteration.
-InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const ParamBox& box,
-                            const InverseParams& params) noexcept {
+TRIVOX_CLONED InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const ParamBox& box,
+                                          const InverseParams& params) noexcept {
   InverseResult r;
   const Vec3 size = box.size();
   const double stall = 1e-13 * max_abs(size);
@@ -109,8 +111,8 @@ InverseResult newton_in_box(const Volume& volume, Vec3 x, Vec3 start, const Para
   return r;
 }
 
-NewtonStepCheck check_newton_step(const Volume& volume, Vec3 x, Vec3 t, Vec3 p, const Mat3& J,
-                                  const InverseParams& params) noexcept {
+TRIVOX_CLONED NewtonStepCheck check_newton_step(const Volume& volume, Vec3 x, Vec3 t, Vec3 p, const Mat3& J,
+                                                const InverseParams& params) noexcept {
   NewtonStepCheck c;
   // Residuals are compared squared; the root is taken once, for the result.
   const double tol = params.residual_tolerance_model;

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "check.h"
+#include "function_clones.h"
 #include "trivox/error.h"
 #include "trivox/inverse/detail/trace.h"
 
@@ -95,7 +96,7 @@ inline void CellTracer::advance(Row& r) {
     r.col = spans[r.span].first;
 }
 
-inline void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {
+TRIVOX_CLONED void CellTracer::record(Row& r, Vec3 x, Vec3 uvw, Vec3 seed, int jacobian_column) {
   const auto c = static_cast<std::size_t>(r.col);
   TRIVOX_CHECK_LT(c, r.ok.size());
   // A row's solved columns increase (TracedRow's contract).
@@ -284,8 +285,8 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   record(r, x, uvw, uvw, col);
 }
 
-void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
-                             const std::function<void(int, const TracedRow&)>& on_row) {
+TRIVOX_CLONED void CellTracer::trace_layer(const SliceLayout& layout, double z_mm, const RowSpans& spans,
+                                           const std::function<void(int, const TracedRow&)>& on_row) {
   layout_ = &layout;
   z_mm_ = z_mm;
   const auto slots = ring_.size();

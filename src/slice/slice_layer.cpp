@@ -7,6 +7,7 @@
 
 #include "check.h"
 #include "coverage.h"
+#include "function_clones.h"
 #include "slicer_parts.h"
 #include "trivox/material/material_function.h"
 #include "trivox/raster/dither.h"
@@ -266,7 +267,7 @@ const detail::TracedRow& Slicer::kept_by_trims(const CellData& cd, int r, const 
 
 // Gives cell `ci`'s material to the inside pixels of one row and marks them inside; checks
 // the fractions as they are written (the dithering then need not read the grid twice).
-void Slicer::paint_row(int ci, int r, const detail::TracedRow& row, LayerWork& w) const {
+TRIVOX_CLONED void Slicer::paint_row(int ci, int r, const detail::TracedRow& row, LayerWork& w) const {
   const std::size_t n = row.cols.size();
   if (n == 0) return;
   TRIVOX_CHECK_GE(row.cols.front(), 0);

@@ -13,12 +13,31 @@
 #pragma once
 
 #include <cstddef>
+#include <new>
 #include <vector>
 
 #include "trivox/math.h"
-#include "volume_kernels.h"
+#include "volume_kernels.h"  // VolumeData
 
 namespace trivox::detail {
+
+// The highest order per direction the power form serves.
+inline constexpr int kMaxPowerOrder = 4;
+
+// Storage on 64-byte boundaries: the kernels of the AVX targets read the table with aligned
+// 32-byte loads, while code compiled without AVX (which allocates it) aligns V4 to only 16
+// bytes; a piece's coefficients then also start at a cache line.
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  static constexpr std::align_val_t kAlignment{64};
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
+  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlignment); }
+  friend bool operator==(const CacheLineAllocator&, const CacheLineAllocator&) noexcept { return true; }
+};
 
 // Pieces along one parametric direction.
 struct PieceAxis {
@@ -47,7 +66,7 @@ struct PowerForm {
   std::size_t coefficients_per_piece = 0;  // order[0] * order[1] * order[2]
   // Piece (pu, pv, pw) starts at ((pw * pieces_v + pv) * pieces_u + pu) * coefficients_per_piece;
   // within a piece, coefficient (i, j, k) of s^i t^j r^k is at i + KU * (j + KV * k).
-  std::vector<V4> coefficients;
+  std::vector<V4, CacheLineAllocator<V4>> coefficients;
 
   const V4* piece(int pu, int pv, int pw) const noexcept {
     const auto index =
@@ -65,6 +84,13 @@ bool build_power_form(const VolumeData& data, PowerForm& out, std::size_t max_by
 using PowerEvaluateFn = Vec3 (*)(const PowerForm&, Vec3) noexcept;
 using PowerEvaluateJacobianFn = void (*)(const PowerForm&, Vec3, Vec3&, Mat3&) noexcept;
 using PowerEvaluateManyFn = void (*)(const PowerForm&, const Vec3*, Vec3*, std::size_t) noexcept;
+struct PowerKernels {
+  PowerEvaluateFn value;
+  PowerEvaluateJacobianFn jacobian;
+  PowerEvaluateManyFn many;
+};
+// The evaluators for these orders (each 2 to 4; nullptr otherwise) on the best SIMD target this
+// processor has; they are compiled once per target in power_form_kernels.cpp.
 PowerEvaluateFn select_power_evaluate(int ku, int kv, int kw) noexcept;
 PowerEvaluateManyFn select_power_evaluate_many(int ku, int kv, int kw) noexcept;
 PowerEvaluateJacobianFn select_power_evaluate_jacobian(int ku, int kv, int kw) noexcept;

@@ -1,14 +1,13 @@
-// Evaluation kernels of Volume, written once as templates over the orders per direction so
-// that the common low orders (2 to 4: linear, quadratic, cubic) compile to fully unrolled,
-// vectorised code; Order = 0 means "order known only at run time" (any order up to kMaxOrder).
+// Evaluation kernels of Volume by de Boor's algorithm: the reference evaluator and the one
+// for orders above 4 and volumes whose power form would be too large (power_form.h). The
+// kernels themselves are in volume_kernels-inl.h, compiled once per SIMD target; these
+// functions pick the ones for the given orders on the best target this processor has
+// (docs/ARCHITECTURE.md, "SIMD targets").
 #pragma once
 
-#include <algorithm>
-#include <array>
-#include <cstring>
+#include <cstddef>
 
 #include "trivox/math.h"
-#include "trivox/spline/detail/basis.h"
 #include "trivox/spline/detail/homogeneous.h"
 #include "trivox/spline/knot_vector.h"
 
@@ -19,140 +18,6 @@ struct VolumeData {
   const H* points;  // basis-index layout, u fastest
   std::size_t stride_v, stride_w;
 };
-
-// A2.2 (and the first-derivative step of basis_first_derivatives) with the order known at
-// compile time, so the loops unroll; same arithmetic as the run-time versions in basis.cpp.
-template <int K, bool kDerivs>
-inline void basis_fixed(const KnotVector& kv, int span, double t, double* N, double* dN) noexcept {
-  constexpr int p = K - 1;
-  constexpr int top = kDerivs ? p - 1 : p;
-  const double* U = kv.knots().data();
-  double left[K], right[K];
-  N[0] = 1.0;
-  for (int j = 1; j <= top; ++j) {
-    left[j] = t - U[span + 1 - j];
-    right[j] = U[span + j] - t;
-    // right[r+1] + left[j-r] = U[span+r+1] - U[span+1-j+r], a knot difference of length j.
-    const double* inv = kv.inverse_differences(j) + (span + 1 - j);
-    double saved = 0.0;
-    for (int r = 0; r < j; ++r) {
-      const double temp = N[r] * inv[r];
-      N[r] = saved + right[r + 1] * temp;
-      saved = left[j - r] * temp;
-    }
-    N[j] = saved;
-  }
-  if constexpr (kDerivs) {
-    double lower[K];
-    for (int q = 0; q < p; ++q) lower[q] = N[q];
-    const double* inv = kv.inverse_differences(p);
-    for (int r = 0; r <= p; ++r) {
-      const int i = span - p + r;
-      const double a = r > 0 ? lower[r - 1] * inv[i] : 0.0;
-      const double b = r < p ? lower[r] * inv[i + 1] : 0.0;
-      N[r] = (t - U[i]) * a + (U[i + p + 1] - t) * b;
-      dN[r] = p * (a - b);
-    }
-  }
-}
-
-// Basis values (and derivatives) of compile-time order K along one direction.
-template <int K>
-struct Basis1 {
-  static constexpr int kCap = K > 0 ? K : kMaxOrder;
-  int order, first;
-  double N[kCap], dN[kCap];
-
-  template <bool kDerivs>
-  void compute(const KnotVector& kv, double t) noexcept {
-    order = K > 0 ? K : kv.order();
-    t = std::clamp(t, kv.lo(), kv.hi());
-    const int span = kv.find_span(t);
-    first = span - (order - 1);
-    if constexpr (K > 1)
-      basis_fixed<K, kDerivs>(kv, span, t, N, dN);
-    else if constexpr (kDerivs)
-      basis_first_derivatives(kv, span, t, N, dN);
-    else
-      basis_functions(kv, span, t, N);
-  }
-};
-
-// The Euclidean value and Jacobian from the homogeneous value S and its partials, each
-// partial first scaled by `scale` (the chain rule of a local coordinate): the quotient rule
-// x = A / W, dx = (dA - x dW) / W.
-inline void homogeneous_to_euclidean(const V4& S, const V4& Su, const V4& Sv, const V4& Sw,
-                                     const std::array<double, 3>& scale, Vec3& value, Mat3& jac) noexcept {
-  const double inv = 1.0 / S[3];
-  value = {S[0] * inv, S[1] * inv, S[2] * inv};
-  const V4* partial[3] = {&Su, &Sv, &Sw};
-  for (std::size_t col = 0; col < 3; ++col) {
-    const V4& p = *partial[col];
-    const double k = scale[col] * inv;
-    jac.m[0][col] = (p[0] - value.x * p[3]) * k;
-    jac.m[1][col] = (p[1] - value.y * p[3]) * k;
-    jac.m[2][col] = (p[2] - value.z * p[3]) * k;
-  }
-}
-
-template <int KU, int KV, int KW>
-Vec3 evaluate_kernel(const VolumeData& d, Vec3 uvw) noexcept {
-  Basis1<KU> bu;
-  Basis1<KV> bv;
-  Basis1<KW> bw;
-  bu.template compute<false>(*d.knots[0], uvw.x);
-  bv.template compute<false>(*d.knots[1], uvw.y);
-  bw.template compute<false>(*d.knots[2], uvw.z);
-  const int ku = KU > 0 ? KU : bu.order, kv = KV > 0 ? KV : bv.order, kw = KW > 0 ? KW : bw.order;
-  V4 acc{};
-  for (int c = 0; c < kw; ++c) {
-    V4 plane{};
-    for (int b = 0; b < kv; ++b) {
-      const H* row = d.points + static_cast<std::size_t>(bw.first + c) * d.stride_w +
-                     static_cast<std::size_t>(bv.first + b) * d.stride_v + static_cast<std::size_t>(bu.first);
-      V4 line{};
-      for (int a = 0; a < ku; ++a) line += bu.N[a] * load(row[a]);
-      plane += bv.N[b] * line;
-    }
-    acc += bw.N[c] * plane;
-  }
-  const double inv = 1.0 / acc[3];
-  return {acc[0] * inv, acc[1] * inv, acc[2] * inv};
-}
-
-template <int KU, int KV, int KW>
-void evaluate_jacobian_kernel(const VolumeData& d, Vec3 uvw, Vec3& value, Mat3& jac) noexcept {
-  Basis1<KU> bu;
-  Basis1<KV> bv;
-  Basis1<KW> bw;
-  bu.template compute<true>(*d.knots[0], uvw.x);
-  bv.template compute<true>(*d.knots[1], uvw.y);
-  bw.template compute<true>(*d.knots[2], uvw.z);
-  // Contract u, then v, then w: S is the homogeneous value, Su/Sv/Sw its partials.
-  const int ku = KU > 0 ? KU : bu.order, kv = KV > 0 ? KV : bv.order, kw = KW > 0 ? KW : bw.order;
-  V4 S{}, Su{}, Sv{}, Sw{};
-  for (int c = 0; c < kw; ++c) {
-    V4 P{}, Pu{}, Pv{};
-    for (int b = 0; b < kv; ++b) {
-      const H* row = d.points + static_cast<std::size_t>(bw.first + c) * d.stride_w +
-                     static_cast<std::size_t>(bv.first + b) * d.stride_v + static_cast<std::size_t>(bu.first);
-      V4 L{}, Lu{};
-      for (int a = 0; a < ku; ++a) {
-        const V4 q = load(row[a]);
-        L += bu.N[a] * q;
-        Lu += bu.dN[a] * q;
-      }
-      P += bv.N[b] * L;
-      Pu += bv.N[b] * Lu;
-      Pv += bv.dN[b] * L;
-    }
-    S += bw.N[c] * P;
-    Su += bw.N[c] * Pu;
-    Sv += bw.N[c] * Pv;
-    Sw += bw.dN[c] * P;
-  }
-  homogeneous_to_euclidean(S, Su, Sv, Sw, {1.0, 1.0, 1.0}, value, jac);
-}
 
 using EvaluateFn = Vec3 (*)(const VolumeData&, Vec3) noexcept;
 using EvaluateJacobianFn = void (*)(const VolumeData&, Vec3, Vec3&, Mat3&) noexcept;

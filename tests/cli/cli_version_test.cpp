@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cstddef>
+#include <cstdlib>
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -83,8 +85,8 @@ void expect_full_report(const CliResult& run, const std::string& what) {
   EXPECT_EQ(r.fields.count("build type"), 1u) << what;
   EXPECT_FALSE(r.fields["build type"].empty());
   EXPECT_TRUE(is_compiler(r.fields["compiler"])) << r.fields["compiler"];
-  for (const char* name :
-       {"CLI11", "fmt", "libpng", "libtiff", "muParser", "nlohmann-json", "oneTBB", "OpenSSL", "pugixml", "zlib"}) {
+  for (const char* name : {"CLI11", "fmt", "Highway", "libpng", "libtiff", "muParser", "nlohmann-json", "oneTBB",
+                           "OpenSSL", "pugixml", "zlib"}) {
     ASSERT_TRUE(r.libraries.count(name)) << what << ": no " << name << " in\n" << run.out;
     EXPECT_TRUE(starts_with_version(r.libraries.at(name))) << name << ": " << r.libraries.at(name);
   }
@@ -103,6 +105,34 @@ TEST(CliVersion, EverySubcommandTakesVersionEvenWithoutItsRequiredArguments) {
     expect_full_report(run_cli(fmt::format("{} --version", command)), fmt::format("trivox {} --version", command));
   // With other options around it, too: nothing is read or written.
   expect_full_report(run_cli("slice missing.json -o /nonexistent/out --version"), "slice ... --version");
+}
+
+// "SIMD: avx2 (available: avx512, avx2, sse4, baseline)": the target in use and the list.
+TEST(CliVersion, ReportsTheSimdTargetAndTrivoxSimdChoosesIt) {
+  ::unsetenv("TRIVOX_SIMD");
+  const VersionReport best = parse_report(run_cli("--version").out);
+  ASSERT_TRUE(best.fields.count("SIMD")) << "no SIMD line";
+  const std::string& line = best.fields.at("SIMD");
+  const auto open = line.find(" (available: ");
+  ASSERT_NE(open, std::string::npos) << line;
+  ASSERT_TRUE(line.ends_with(")")) << line;
+  std::vector<std::string> available;
+  std::istringstream list(line.substr(open + 13, line.size() - open - 14));
+  for (std::string name; std::getline(list, name, ',');)
+    available.push_back(name.substr(name.starts_with(" ") ? 1 : 0));
+  ASSERT_FALSE(available.empty()) << line;
+  EXPECT_EQ(line.substr(0, open), available.front()) << "the best target is used by default";
+  for (const std::string& target : available) {
+    ::setenv("TRIVOX_SIMD", target.c_str(), 1);
+    const CliResult run = run_cli("--version");
+    EXPECT_EQ(run.exit_code, 0) << target << ": " << run.err;
+    EXPECT_TRUE(parse_report(run.out).fields["SIMD"].starts_with(target + " (")) << target << ":\n" << run.out;
+  }
+  ::setenv("TRIVOX_SIMD", "avx3", 1);
+  const CliResult bad = run_cli("--version");
+  ::unsetenv("TRIVOX_SIMD");
+  EXPECT_EQ(bad.exit_code, 3) << bad.err;
+  EXPECT_NE(bad.err.find("TRIVOX_SIMD: unknown target 'avx3' (expected one of: "), std::string::npos) << bad.err;
 }
 
 TEST(CliVersion, TheHelpListsTheFlag) {

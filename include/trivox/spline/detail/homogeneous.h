@@ -17,6 +17,11 @@ using H = std::array<double, 4>;  // homogeneous control point (w*x, w*y, w*z, w
 // control points is then a chain of vector multiply-adds, one AVX register per partial sum.
 typedef double V4 __attribute__((vector_size(32)));
 
+// Code compiled for one SIMD target (docs/ARCHITECTURE.md, "SIMD targets") has its own copy
+// of this (kernel_arithmetic-inl.h): a V4 returned across targets would not agree on
+// registers. Nor on alignment: without AVX the compiler aligns V4 to 16 bytes, with AVX to
+// 32, so a table of V4 that kernels of every target read is allocated 64-byte aligned, as
+// the power form's is.
 inline V4 load(const H& p) noexcept {
   V4 v;
   std::memcpy(&v, p.data(), sizeof v);
