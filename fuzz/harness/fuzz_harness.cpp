@@ -268,7 +268,7 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
                           order_product / 64.0 * strategy_cost;
     outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
     if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
-    const std::uint64_t resident = resident_bytes_now();
+    [[maybe_unused]] const std::uint64_t resident = resident_bytes_now();  // read under TRIVOX_FUZZ_HEAP
     const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, memory_limit});
     check_job_fits(e, jp, memory_limit, std::nullopt);
 #ifdef TRIVOX_FUZZ_HEAP
