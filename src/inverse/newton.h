@@ -1,6 +1,6 @@
 // Damped Newton on V(u,v,w) = x inside a parameter box: the shared core of invert() and of
 // the global solver's leaf step. The traced steps built on it, which the slicer's tracer
-// uses too, are declared in trivox/inverse/trace.h.
+// uses too, are declared in trivox/inverse/detail/trace.h.
 #pragma once
 
 #include "trivox/inverse/detail/trace.h"
