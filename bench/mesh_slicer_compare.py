@@ -77,6 +77,8 @@ import statistics
 import struct
 import subprocess
 import sys
+
+from paper_models import absolute_files  # the scene with its "file" paths made absolute
 import tempfile
 import time
 import zipfile
@@ -86,16 +88,6 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SHARED = os.path.join(ROOT, "..", "shared", "data")
 DUCK = os.path.join(ROOT, "examples", "shared_scenes", "duck.json")
 MARGIN_PX = 8
-
-
-def absolute_files(node, scene_dir):
-    """The scene with every "file" path made absolute (they are relative to the scene)."""
-    if isinstance(node, dict):
-        return {k: (os.path.normpath(os.path.join(scene_dir, v)) if k == "file" and isinstance(v, str)
-                    else absolute_files(v, scene_dir)) for k, v in node.items()}
-    if isinstance(node, list):
-        return [absolute_files(v, scene_dir) for v in node]
-    return node
 
 
 def geometry_only_duck(work, scale):

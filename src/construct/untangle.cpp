@@ -28,6 +28,29 @@ struct DirSample {
   std::vector<double> value, deriv;
 };
 
+// The Jacobian's columns (ju, jv, jw) at one sample of the volume whose control points are
+// p (x, y, z per point, u fastest over nu x nv x ...), from the three directions' basis
+// values and derivatives there.
+void sample_jacobian(const double* p, int nu, int nv, const DirSample& su, const DirSample& sv, const DirSample& sw,
+                     Vec3& ju, Vec3& jv, Vec3& jw) {
+  ju = jv = jw = Vec3{0, 0, 0};
+  const std::size_t ou = su.value.size(), ov = sv.value.size(), ow = sw.value.size();
+  for (std::size_t c = 0; c < ow; ++c)
+    for (std::size_t b = 0; b < ov; ++b)
+      for (std::size_t a = 0; a < ou; ++a) {
+        const std::size_t idx =
+            static_cast<std::size_t>(su.first + static_cast<int>(a) +
+                                     nu * (sv.first + static_cast<int>(b) + nv * (sw.first + static_cast<int>(c))));
+        const Vec3 x{p[3 * idx], p[3 * idx + 1], p[3 * idx + 2]};
+        const double du = su.deriv[a] * sv.value[b] * sw.value[c];
+        const double dv = su.value[a] * sv.deriv[b] * sw.value[c];
+        const double dw = su.value[a] * sv.value[b] * sw.deriv[c];
+        ju = ju + du * x;
+        jv = jv + dv * x;
+        jw = jw + dw * x;
+      }
+}
+
 std::vector<DirSample> sample_direction(const KnotVector& kv, int samples_per_span) {
   // Uniform samples within each distinct knot span, both domain ends included.
   std::vector<double> ts;
@@ -96,22 +119,9 @@ class ReferenceObjective {
     for (const DirSample& sw : samples_[2])
       for (const DirSample& sv : samples_[1])
         for (const DirSample& su : samples_[0]) {
-          Vec3 ju{0, 0, 0}, jv{0, 0, 0}, jw{0, 0, 0};
+          Vec3 ju, jv, jw;
+          sample_jacobian(p.data(), nu, nv, su, sv, sw, ju, jv, jw);
           const std::size_t ou = su.value.size(), ov = sv.value.size(), ow = sw.value.size();
-          for (std::size_t c = 0; c < ow; ++c)
-            for (std::size_t b = 0; b < ov; ++b)
-              for (std::size_t a = 0; a < ou; ++a) {
-                const std::size_t idx = static_cast<std::size_t>(
-                    su.first + static_cast<int>(a) +
-                    nu * (sv.first + static_cast<int>(b) + nv * (sw.first + static_cast<int>(c))));
-                const Vec3 x{p[3 * idx], p[3 * idx + 1], p[3 * idx + 2]};
-                const double du = su.deriv[a] * sv.value[b] * sw.value[c];
-                const double dv = su.value[a] * sv.deriv[b] * sw.value[c];
-                const double dw = su.value[a] * sv.value[b] * sw.deriv[c];
-                ju = ju + du * x;
-                jv = jv + dv * x;
-                jw = jw + dw * x;
-              }
           const Vec3 cvw = cross(jv, jw), cwu = cross(jw, ju), cuv = cross(ju, jv);
           const double det = dot(ju, cvw);
           auto chain = [&](double coeff, std::vector<double>& g) {
@@ -236,22 +246,9 @@ class Objective {
           f += r * r;
           if (!grad) continue;
           // The reference's J, its cross products and its chain rule at this sample.
-          Vec3 ju{0, 0, 0}, jv{0, 0, 0}, jw{0, 0, 0};
+          Vec3 ju, jv, jw;
+          sample_jacobian(p.data(), nu, nv, su, sv, sw, ju, jv, jw);
           const std::size_t ou = su.value.size(), ov = sv.value.size(), ow = sw.value.size();
-          for (std::size_t c = 0; c < ow; ++c)
-            for (std::size_t b = 0; b < ov; ++b)
-              for (std::size_t a = 0; a < ou; ++a) {
-                const std::size_t idx = static_cast<std::size_t>(
-                    su.first + static_cast<int>(a) +
-                    nu * (sv.first + static_cast<int>(b) + nv * (sw.first + static_cast<int>(c))));
-                const Vec3 x{p[3 * idx], p[3 * idx + 1], p[3 * idx + 2]};
-                const double du = su.deriv[a] * sv.value[b] * sw.value[c];
-                const double dv = su.value[a] * sv.deriv[b] * sw.value[c];
-                const double dw = su.value[a] * sv.value[b] * sw.deriv[c];
-                ju = ju + du * x;
-                jv = jv + dv * x;
-                jw = jw + dw * x;
-              }
           const Vec3 cvw = cross(jv, jw), cwu = cross(jw, ju), cuv = cross(ju, jv);
           const double coeff = -2.0 * r * sigma / scale;
           std::vector<double>& g = *grad;
