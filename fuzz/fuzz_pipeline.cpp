@@ -24,6 +24,7 @@ const char* kind_name(trivox::fuzz::PipelineOutcome::Kind kind) {
   switch (kind) {
     case trivox::fuzz::PipelineOutcome::Kind::kSliced: return "sliced";
     case trivox::fuzz::PipelineOutcome::Kind::kTooLarge: return "too-large";
+    case trivox::fuzz::PipelineOutcome::Kind::kStopped: return "stopped";
     case trivox::fuzz::PipelineOutcome::Kind::kRefused: break;
   }
   return "refused";

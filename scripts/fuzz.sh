@@ -116,7 +116,7 @@ if [ -s "$TRIVOX_FUZZ_PIPELINE_LOG" ]; then
   awk -F"\t" '{ n[$1]++; if ($3 > slow) { slow = $3; slow_px = $2 }
          if ($4 >= 0) { heap++; if ($4 > big) { big = $4; big_est = $5 }
                         if ($5 >= 16 && $4 / $5 > worst) worst = $4 / $5 } }
-       END { printf "pipeline jobs: %d sliced, %d refused, %d too large; slowest %.2f s (%d px); heap measured for %d: largest growth %.1f MB (estimate %.1f MB), largest growth over estimate where that is 16 MB or more: %.2f\n",
-                    n["sliced"], n["refused"], n["too-large"], slow, slow_px, heap, big, big_est, worst }' "$TRIVOX_FUZZ_PIPELINE_LOG"
+       END { printf "pipeline jobs: %d sliced, %d refused, %d too large, %d stopped; slowest %.2f s (%d px); heap measured for %d: largest growth %.1f MB (estimate %.1f MB), largest growth over estimate where that is 16 MB or more: %.2f\n",
+                    n["sliced"], n["refused"], n["too-large"], n["stopped"], slow, slow_px, heap, big, big_est, worst }' "$TRIVOX_FUZZ_PIPELINE_LOG"
 fi
 exit "$failed"

@@ -6,10 +6,13 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstddef>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -208,6 +211,48 @@ constexpr std::uint64_t kPipelineMemoryLimit = 256'000'000;
 // points' box has more face pixels than that is not even prepared.
 constexpr double kPipelinePixels = 1e6;
 
+// Seconds after which a pipeline input's job is stopped, as Ctrl-C would stop it. The pixel
+// budget above bounds the typical cost of a job, not the worst: a global solve's boxes
+// depend on the volume's shape and weights (a rational cell of order 12 with weights from
+// 1e-6 to 1e6, traced without seeds, costs several milliseconds a pixel under the
+// sanitizers). The stop keeps every input within the fuzzer's 10 s and tests the stop
+// itself: the slicer checks it before each global solve, and a stopped job must leave a
+// folder that verifies as interrupted.
+constexpr double kPipelineStopSeconds = 4.0;
+// A stopped job must end within this long of its stop flag (the flag is read before each
+// global solve, every 64 of its boxes and every row of an outline mesh's samples).
+constexpr double kPipelineStopGraceSeconds = 4.0;
+
+// Raises its flag once the given seconds have passed, unless destroyed first.
+class Watchdog {
+ public:
+  explicit Watchdog(double seconds)
+      : thread_([this, seconds] {
+          std::unique_lock lock(mutex_);
+          if (!wake_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; }))
+            flag_.store(true);
+        }) {}
+  ~Watchdog() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  Watchdog(const Watchdog&) = delete;
+  Watchdog& operator=(const Watchdog&) = delete;
+  const std::atomic<bool>* flag() const { return &flag_; }
+  bool raised() const { return flag_.load(); }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::atomic<bool> flag_{false};
+  std::thread thread_;  // last: it starts once the members it reads exist
+};
+
 // Pixels of the six faces of `box` at the printer's resolution (the outline meshes' budget,
 // slicer.cpp).
 double face_pixels(const Box3& box, const PrinterProfile& printer) {
@@ -224,6 +269,21 @@ std::uint64_t resident_bytes_now() {
   return resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
 }
 
+// A job its stop flag ended: the manifest says so, and every file it lists is whole (the
+// layers done before the stop, none half-written).
+void check_stopped_job(const std::filesystem::path& dir) {
+  VerifyReport report;
+  try {
+    report = verify_output(dir);
+  } catch (const Error& e) {
+    throw HarnessViolation(std::string("a stopped job's folder cannot be verified: ") + e.what());
+  }
+  if (report.manifest.status != JobStatus::kInterrupted)
+    throw HarnessViolation("a stopped job's manifest says " + std::string(to_string(report.manifest.status)));
+  // verify_output's first problem is the status; any other is a damaged or missing file.
+  if (report.problems.size() != 1) throw HarnessViolation("a stopped job does not verify: " + report.problems.back());
+}
+
 }  // namespace
 
 PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir) {
@@ -232,9 +292,13 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
   const auto finish = [&](PipelineOutcome::Kind kind) {
     outcome.kind = kind;
     outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (kind == PipelineOutcome::Kind::kStopped && outcome.seconds > kPipelineStopSeconds + kPipelineStopGraceSeconds)
+      throw HarnessViolation("a job ended " + std::to_string(outcome.seconds - kPipelineStopSeconds) +
+                             " s after its stop flag was raised");
     return outcome;
   };
   const PipelineJob job = generate_pipeline_job(data);
+  const Watchdog watchdog(kPipelineStopSeconds);
   try {
     const Scene scene = parse_scene(job.scene_json, work_dir / "scene.json");
     SliceParams sp;
@@ -243,6 +307,7 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     sp.outline_tolerance_mm = job.outline_tolerance_mm;
     const std::uint64_t memory_limit = resident_bytes_now() + kPipelineMemoryLimit;
     sp.memory_limit_bytes = memory_limit;
+    sp.stop = watchdog.flag();
     double order_product = 1, model_face_pixels = 0;
     for (const Cell& c : scene.cells) {
       const auto o = c.volume.orders();
@@ -261,6 +326,7 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     jp.last_layer = std::min(L.num_layers - 1, jp.first_layer + job.layer_count - 1);
     jp.min_layers = 0;
     jp.threads = job.threads;
+    jp.stop = watchdog.flag();
     // Without tracing ("none", the reference strategy) every pixel near a cell is a global
     // solve, about a hundred times a traced pixel's cost: such jobs count 64 times.
     const double strategy_cost = sp.tracing == TracingStrategy::kNone ? 64.0 : 1.0;
@@ -285,12 +351,20 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
       throw HarnessViolation("the job's heap grew by " + std::to_string(grown / 1e6) + " MB, more than 1.5 times its " +
                              "own estimate of " + std::to_string(own_estimate / 1e6) + " MB plus 64 MB");
 #endif
-    if (stats.interrupted) throw HarnessViolation("a job with no stop flag reports itself interrupted");
+    if (stats.interrupted) {
+      if (!watchdog.raised()) throw HarnessViolation("a job whose stop flag is down reports itself interrupted");
+      check_stopped_job(jp.output_dir);
+      return finish(PipelineOutcome::Kind::kStopped);
+    }
     const VerifyReport report = verify_output(jp.output_dir);
     if (!report.ok()) throw HarnessViolation("a completed job does not verify: " + report.problems.front());
     return finish(PipelineOutcome::Kind::kSliced);
   } catch (const HarnessViolation&) {
     throw;
+  } catch (const CancelledError& e) {
+    // Stopped while the slicer was set up or the estimate sliced its sample layer.
+    if (!watchdog.raised()) throw HarnessViolation(std::string("cancelled with the stop flag down: ") + e.what());
+    return finish(PipelineOutcome::Kind::kStopped);
   } catch (const Error& e) {
     // A documented refusal: bad or unworkable input, or a job too large for the limits.
     outcome.refusal = std::string(e.what()).substr(0, 160);

@@ -58,6 +58,7 @@ struct PipelineOutcome {
     kRefused,   // a documented error: bad or unworkable input, or too large for the limits
     kTooLarge,  // prepared and estimated, not sliced: more pixels than the fuzzer's budget
     kSliced,    // the layers were sliced, written and verified
+    kStopped,   // stopped after kPipelineStopSeconds (fuzz_harness.cpp) and checked as interrupted
   };
   Kind kind = Kind::kRefused;
   std::string refusal;  // the error's message (first 160 characters) when refused

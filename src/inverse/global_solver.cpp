@@ -11,6 +11,7 @@
 #include "bezier_net.h"
 #include "box_tree.h"
 #include "newton.h"
+#include "trivox/error.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/spline/refine.h"
 
@@ -212,6 +213,8 @@ GlobalResult GlobalSolver::solve(Vec3 x, const GlobalSolveParams& params, std::o
       exhausted = true;
       break;
     }
+    if (params.stop != nullptr && result.boxes_visited % 64 == 0 && params.stop->load(std::memory_order_relaxed))
+      throw CancelledError("stopped during a global solve");
     // A small box whose centre is joined to a root already found (see joined() below) lies
     // on that root's collapsed set, or at the root itself: what it holds is that root again.
     // Near a collapsed edge the set of parameters that map within the tolerance of x is a

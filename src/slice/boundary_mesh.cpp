@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "trivox/error.h"
 
@@ -15,10 +16,17 @@ std::vector<double> samples_of(double lo, double hi, int n) {
   return t;
 }
 
+void throw_if_stopped(const std::atomic<bool>* stop) {
+  if (stop != nullptr && stop->load(std::memory_order_relaxed))
+    throw CancelledError("stopped while building a cell's outline mesh");
+}
+
 // Largest deviation between a face's surface and its bilinear grid cells, checked at cell
 // centres, for the face where direction `fixed` is at `at`; `a` and `b` are the other two.
+// The stop flag is read for every row of samples: a face of a high-order volume at its finest
+// may take seconds.
 double face_deviation(const Volume& v, int fixed, double at, int a, const std::vector<double>& ta, int b,
-                      const std::vector<double>& tb) {
+                      const std::vector<double>& tb, const std::atomic<bool>* stop) {
   double worst = 0.0;
   auto param = [&](double s, double t) {
     Vec3 p;
@@ -36,6 +44,7 @@ double face_deviation(const Volume& v, int fixed, double at, int a, const std::v
   };
   grid_row(tb[0], prev);
   for (std::size_t j = 1; j < tb.size(); ++j) {
+    throw_if_stopped(stop);
     grid_row(tb[j], cur);
     for (std::size_t i = 1; i < n; ++i)
       centre_params[i - 1] = param(0.5 * (ta[i - 1] + ta[i]), 0.5 * (tb[j - 1] + tb[j]));
@@ -77,7 +86,7 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
   constexpr int kMaxSamples = 4096;
   double deviation = 0;
   for (;;) {  // at most 12 rounds: a direction doubles from 3 to kMaxSamples in 11
-    if (stop != nullptr && stop->load()) throw CancelledError("stopped while building a cell's outline mesh");
+    throw_if_stopped(stop);
     std::array<std::vector<double>, 3> t;
     for (int d = 0; d < 3; ++d)
       t[static_cast<std::size_t>(d)] = samples_of(dom.lo[d], dom.hi[d], n[static_cast<std::size_t>(d)]);
@@ -87,7 +96,7 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
       const int a = (fixed + 1) % 3, b = (fixed + 2) % 3;
       for (double at : {dom.lo[fixed], dom.hi[fixed]}) {
         const double face =
-            face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)]);
+            face_deviation(v, fixed, at, a, t[static_cast<std::size_t>(a)], b, t[static_cast<std::size_t>(b)], stop);
         // NaN (a face whose points overflow) counts as too coarse.
         if (!(face <= tolerance_mm)) refine[static_cast<std::size_t>(a)] = refine[static_cast<std::size_t>(b)] = true;
         deviation = std::isnan(face) ? HUGE_VAL : std::max(deviation, face);
@@ -162,7 +171,12 @@ BoundaryMesh build_boundary_mesh(const Volume& v, double tolerance_mm, std::int6
                  t[2][static_cast<std::size_t>(ijk[2])]};
   }
   std::vector<Vec3> vertices(grid_of.size());
-  v.evaluate_many(params, vertices);
+  constexpr std::size_t kChunk = 1 << 16;  // vertices evaluated between reads of the stop flag
+  for (std::size_t first = 0; first < params.size(); first += kChunk) {
+    throw_if_stopped(stop);
+    const std::size_t count = std::min(kChunk, params.size() - first);
+    v.evaluate_many(std::span(params).subspan(first, count), std::span(vertices).subspan(first, count));
+  }
   return {SlicedMesh(std::move(vertices), std::move(triangles)), n, deviation};
 }
 

@@ -36,6 +36,7 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
     : volume_(volume),
       solver_(solver),
       params_(params),
+      global_(params.global),
       predicts_(!folded && (params.tracing == TracingStrategy::kPredict || params.tracing == TracingStrategy::kFlood)),
       folded_(folded),
       width_(width_px),
@@ -52,6 +53,7 @@ CellTracer::CellTracer(const Volume& volume, const GlobalSolver& solver, const S
     r.out.uvw.reserve(w);
     r.out.xyz.reserve(w);
   }
+  global_.stop = params.stop;
 }
 
 void CellTracer::start_row(Row& r, int row, double y_mm, const std::vector<std::pair<int, int>>& spans) {
@@ -222,7 +224,17 @@ void CellTracer::finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 va
   solve_from_neighbours(r, above, x);
 }
 
+// A raised stop flag ends the layer between batches and before each slow-path pixel, whose
+// global solve is the tracer's largest unit of work (a row of a pathological job, such as a
+// high-order rational cell traced without seeds, may take seconds); the job then counts the
+// layer as not done.
+void CellTracer::throw_if_stopped() const {
+  if (params_.stop != nullptr && params_.stop->load(std::memory_order_relaxed))
+    throw CancelledError("stopped while tracing a layer");
+}
+
 void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
+  throw_if_stopped();
   ++counters_.slow_path_pixels;
   const int col = r.col;
   const auto c = static_cast<std::size_t>(col);
@@ -267,7 +279,7 @@ void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   }
   ++counters_.global_calls;
   if (n == 0) ++counters_.global_unseeded;
-  const GlobalResult g = solver_.solve(x, params_.global, outward);
+  const GlobalResult g = solver_.solve(x, global_, outward);
   switch (g.status) {
     case GlobalStatus::kNone: return;
     case GlobalStatus::kIncomplete:
@@ -316,9 +328,7 @@ TRIVOX_CLONED void CellTracer::trace_layer(const SliceLayout& layout, double z_m
   std::vector<Mat3> step_jacobian(most);
   std::size_t oldest = 0, next = 0;
   while (oldest < total) {
-    // A raised stop flag ends the layer between rows (a layer of a pathological job may take
-    // long; the job then counts it as not done).
-    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while tracing a layer");
+    throw_if_stopped();
     while (next < total && next < oldest + most) {
       const int row = rows[next];
       start_row(slot(next), row, layout.y_of_row(row), spans[static_cast<std::size_t>(row)]);

@@ -133,6 +133,8 @@ class CellTracer {
   bool finish_jacobian_step(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value, const Mat3& jacobian);
   // The checked end of a Jacobian step: recorded when within the tolerance, else the slow path.
   void finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 value);
+  // Throws CancelledError once params_.stop is raised.
+  void throw_if_stopped() const;
   // Newton from the solved neighbours in `r` and the row above (`above`, or none), then the
   // global solver; records the pixel if it lies in the cell.
   void solve_from_neighbours(Row& r, const Row* above, Vec3 x);
@@ -146,6 +148,7 @@ class CellTracer {
   const Volume& volume_;
   const GlobalSolver& solver_;
   const SliceParams& params_;
+  GlobalSolveParams global_;  // params_.global, with params_.stop
   bool predicts_;  // the strategy guesses and takes Jacobian steps
   bool folded_;    // every pixel by the global solver
   int width_;

@@ -1,11 +1,13 @@
 // Evaluate-then-invert round trips, outside points, folds and collapsed faces.
 #include "trivox/inverse/invert.h"
 
+#include <atomic>
 #include <random>
 
 #include <gtest/gtest.h>
 
 #include "support/test_support.h"
+#include "trivox/error.h"
 
 namespace trivox {
 namespace {
@@ -192,6 +194,26 @@ TEST(Inverse, BoxBudgetGivesIncompleteNotACrash) {
   GlobalSolveParams tight;
   tight.max_boxes = 3;
   EXPECT_EQ(solver.solve({0.0, 0.0, 0.5}, tight).status, GlobalStatus::kIncomplete);
+}
+
+// A raised stop flag ends a solve within 64 boxes with CancelledError; one that stays down
+// changes nothing. (A point on the cylinder's collapsed axis takes about 200 boxes.)
+TEST(Inverse, StopFlagEndsAGlobalSolve) {
+  const Volume v = test::cylinder_sector(1.0, 1.0);
+  const GlobalSolver solver(v);
+  const Vec3 x{0.0, 0.0, 0.5};
+  GlobalSolveParams params;
+  const GlobalResult plain = solver.solve(x, params);
+  ASSERT_EQ(plain.status, GlobalStatus::kDegenerate);
+  ASSERT_GE(plain.boxes_visited, 64) << "the point must need 64 boxes for the flag to be read";
+  std::atomic<bool> stop{false};
+  params.stop = &stop;
+  const GlobalResult down = solver.solve(x, params);
+  EXPECT_EQ(down.boxes_visited, plain.boxes_visited);
+  ASSERT_EQ(down.preimages.size(), 1u);
+  EXPECT_EQ(down.preimages[0].uvw, plain.preimages[0].uvw);
+  stop = true;
+  EXPECT_THROW(solver.solve(x, params), CancelledError);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 // default are listed in docs/ARCHITECTURE.md, "Tolerances of the inverse map".
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -80,6 +81,10 @@ struct GlobalSolveParams {
   // A preimage whose |det J| is below this fraction of the volume's typical |det J| is
   // singular (on a collapsed face or edge).
   double singular_relative = 1e-8;
+  // Checked every 64 boxes: once it is true, solve() throws CancelledError (a solve of a
+  // high-order rational volume may visit the whole box budget, seconds of work). May be set
+  // from a signal handler or another thread. Not a setting of the result.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 enum class GlobalStatus {
