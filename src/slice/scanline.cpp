@@ -29,11 +29,13 @@ void add_span(RowSpans& rows, const SliceLayout& L, int row, double xlo, double 
   if (c0 <= c1) rows[static_cast<std::size_t>(row)].push_back({c0, c1});
 }
 
-}  // namespace
-
-void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
-  rows.assign(static_cast<std::size_t>(L.height_px), {});
-  std::vector<std::vector<double>> crossings(static_cast<std::size_t>(L.height_px));
+// Each row's crossings of the outline with its centre line, sorted (the even-odd interior
+// lies between crossings 0 and 1, 2 and 3, ...), and the band of centres within m of a
+// segment (unmerged spans).
+void crossings_and_band(const std::vector<Segment2>& segments, const SliceLayout& L, double m,
+                        std::vector<std::vector<double>>& crossings, RowSpans& band) {
+  crossings.assign(static_cast<std::size_t>(L.height_px), {});
+  band.assign(static_cast<std::size_t>(L.height_px), {});
   for (const Segment2& s : segments) {
     // Crossings with the row centre lines, by the rule "y >= y_c counts as above" applied
     // to each endpoint, so two segments sharing an endpoint never both count it.
@@ -60,12 +62,19 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
         xlo = std::min(xa, xb);
         xhi = std::max(xa, xb);
       }
-      add_span(rows, L, r, xlo - m, xhi + m);
+      add_span(band, L, r, xlo - m, xhi + m);
     }
   }
+  for (auto& xs : crossings) std::sort(xs.begin(), xs.end());
+}
+
+}  // namespace
+
+void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
+  std::vector<std::vector<double>> crossings;
+  crossings_and_band(segments, L, m, crossings, rows);
   for (int r = 0; r < L.height_px; ++r) {
-    auto& xs = crossings[static_cast<std::size_t>(r)];
-    std::sort(xs.begin(), xs.end());
+    const auto& xs = crossings[static_cast<std::size_t>(r)];
     if (xs.size() % 2 == 1) {
       add_span(rows, L, r, xs.front() - m, xs.back() + m);
     } else {
@@ -73,6 +82,20 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
     }
   }
   merge_spans(rows);
+}
+
+void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
+  std::vector<std::vector<double>> crossings;
+  RowSpans band;
+  crossings_and_band(segments, L, m, crossings, band);
+  merge_spans(band);
+  rows.assign(static_cast<std::size_t>(L.height_px), {});
+  for (int r = 0; r < L.height_px; ++r) {
+    const auto& xs = crossings[static_cast<std::size_t>(r)];
+    if (xs.size() % 2 == 1) continue;  // a numerically open outline decides nothing
+    for (std::size_t i = 0; i + 1 < xs.size(); i += 2) add_span(rows, L, r, xs[i], xs[i + 1]);
+  }
+  subtract_spans(rows, band);
 }
 
 void merge_spans(RowSpans& rows) {
@@ -86,6 +109,24 @@ void merge_spans(RowSpans& rows) {
         merged.push_back(sp);
     }
     spans = std::move(merged);
+  }
+}
+
+void subtract_spans(RowSpans& rows, const RowSpans& mask) {
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (r >= mask.size() || mask[r].empty()) continue;
+    const auto& b = mask[r];
+    std::vector<std::pair<int, int>> out;
+    std::size_t j = 0;
+    for (auto [a0, a1] : rows[r]) {
+      while (j < b.size() && b[j].second < a0) ++j;
+      for (std::size_t k = j; k < b.size() && b[k].first <= a1 && a0 <= a1; ++k) {
+        if (b[k].first > a0) out.push_back({a0, b[k].first - 1});
+        a0 = std::max(a0, b[k].second + 1);
+      }
+      if (a0 <= a1) out.push_back({a0, a1});
+    }
+    rows[r] = std::move(out);
   }
 }
 

@@ -22,6 +22,13 @@ using RowSpans = std::vector<std::vector<std::pair<int, int>>>;
 void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
                      RowSpans& rows);
 
+// The pixels an outline decides inside by itself: centres inside by the even-odd rule and
+// not within `margin_mm` of any segment (candidate_spans' band), so that each lies in the cell
+// whenever the outline is within `margin_mm` of the true boundary. A subset of the
+// candidates; rows with an odd number of crossings have none.
+void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
+                    RowSpans& rows);
+
 // Adds to `rows` every pixel whose centre lies within `margin_mm` (in x and in y) of the part
 // of a triangle inside the slab z0 <= z <= z1, projected on the layer: with the even-odd
 // interior of the cut at the slab's middle (candidate_spans), every centre within the slab's
@@ -32,6 +39,8 @@ void add_slab_spans(const std::vector<std::array<Vec3, 3>>& triangles, double z0
 void merge_spans(RowSpans& rows);
 // Keeps in `rows` only the pixels also in `mask` (both merged).
 void intersect_spans(RowSpans& rows, const RowSpans& mask);
+// Removes from `rows` the pixels in `mask` (both merged).
+void subtract_spans(RowSpans& rows, const RowSpans& mask);
 
 // The crossings of every row's centre line with a cut shell (trivox/trim/detail/shell_mesh.h), by
 // the rule of crosses_row (trivox/mesh/sliced_mesh.h), as ShellMesh::contains counts them, sorted per row: pixel (col,

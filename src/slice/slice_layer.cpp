@@ -14,6 +14,11 @@
 
 namespace trivox {
 
+namespace {
+// Interior pixels traced beside the band of a constant-material cell (slice_cell).
+constexpr int kSeedMarginPx = 8;
+}  // namespace
+
 LayerResult Slicer::slice_layer(int layer) const { return slice_layer(layer, nullptr); }
 
 LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out) const {
@@ -242,10 +247,56 @@ void Slicer::slice_cell(int ci, LayerWork& w) const {
     return;
   }
   if (!candidate_pixels(cd, w)) return;
+  // A constant material needs no (u, v, w): the pixels the outline decides are filled, only
+  // the band around it is traced (w.segments holds the outline's cut from candidate_pixels).
+  if (cd.fills_interior) {
+    const double band = tv.band_mm, z = w.stats.z_mm;
+    detail::interior_spans(w.segments, layout_, band, w.interior);
+    // Where a face lies nearly in the layer's plane, the mesh's small error across the face
+    // is a wide one in the plane: no pixel within the band of a triangle that meets the slab
+    // of the band's height around the layer is filled (such pixels are traced).
+    tv.mesh.slab(z - band, z + band, w.slab_triangles);
+    for (auto& row : w.outline_spans) row.clear();
+    detail::add_slab_spans(w.slab_triangles, z - band, z + band, layout_, band, w.outline_spans);
+    detail::merge_spans(w.outline_spans);
+    detail::subtract_spans(w.interior, w.outline_spans);
+    // The band's pixels are traced with a few interior pixels beside them: solved, those
+    // seed the band's pixels of the rows below (a pixel's seeds are its solved neighbours)
+    // and flood back to the pixels just outside, so that Newton, failing on the face, hands
+    // the global solver the face's normal.
+    for (auto& row : w.interior) {
+      std::size_t kept = 0;
+      for (auto [c0, c1] : row)
+        if (c0 + kSeedMarginPx <= c1 - kSeedMarginPx) row[kept++] = {c0 + kSeedMarginPx, c1 - kSeedMarginPx};
+      row.resize(kept);
+    }
+    detail::subtract_spans(w.spans, w.interior);
+  }
   detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px, detail::CellTracer::kDefaultRowsInFlight,
                             tv.fold.has_value());
   tracer.trace_layer(layout_, w.stats.z_mm, w.spans, paint);
   w.counters += tracer.counters();
+  if (cd.fills_interior)
+    for (int r = 0; r < layout_.height_px; ++r)
+      if (!w.interior[static_cast<std::size_t>(r)].empty()) paint(r, interior_row(cd, r, w));
+}
+
+// Row r's interior pixels of a constant-material cell, each at its pixel centre, with the
+// domain's centre for (u, v, w), which the material does not read.
+const detail::TracedRow& Slicer::interior_row(const CellData& cd, int r, LayerWork& w) const {
+  detail::TracedRow& row = w.filled;
+  const Vec3 uvw = cd.cell->volume.domain().center();
+  row.cols.clear();
+  row.uvw.clear();
+  row.xyz.clear();
+  const double y = layout_.y_of_row(r);
+  for (const auto& [c0, c1] : w.interior[static_cast<std::size_t>(r)])
+    for (int c = c0; c <= c1; ++c) {
+      row.cols.push_back(c);
+      row.uvw.push_back(uvw);
+      row.xyz.push_back({layout_.x_of_col(c), y, w.stats.z_mm});
+    }
+  return row;
 }
 
 const detail::TracedRow& Slicer::kept_by_trims(const CellData& cd, int r, const detail::TracedRow& row,

@@ -115,6 +115,19 @@ void Slicer::check_model_fits(double finest_pitch_mm) const {
                     scene_.source, far, resolution, finest_pitch_mm));
 }
 
+namespace {
+
+// Whether the material's bounds over the whole domain pin every fraction to one value (exact
+// for the constant kind; sound for every kind, so a varying material never passes).
+bool is_constant(const MaterialFunction& material, const ParamBox& domain) {
+  const auto m = static_cast<std::size_t>(material.num_materials());
+  std::vector<float> lo(m), hi(m);
+  material.bounds(domain, lo, hi);
+  return std::equal(lo.begin(), lo.end(), hi.begin());
+}
+
+}  // namespace
+
 // The cells, their trivariates (each with its global solver) and their trim clauses; the
 // meshes come later, once the layout gives their budgets.
 void Slicer::prepare_cells() {
@@ -145,6 +158,11 @@ void Slicer::prepare_cells() {
       }
       cd->clauses.push_back(std::move(k));
     }
+    // The paper's strategies (Table 1) keep inverting every pixel, as the paper does.
+    const bool own_strategy = params_.tracing == TracingStrategy::kPredict || params_.tracing == TracingStrategy::kFlood;
+    cd->fills_interior = params_.fill_constant_interiors && own_strategy && cd->clauses.empty() && !c.grey_source &&
+                         !trivariates_[static_cast<std::size_t>(cd->trivariate)]->fold &&
+                         is_constant(*c.material, c.volume.domain());
     cells_.push_back(std::move(cd));
   }
 }
@@ -221,6 +239,8 @@ void Slicer::build_meshes(double finest_pitch_mm) {
 std::uint64_t Slicer::tracing_bytes_per_worker() const noexcept {
   const auto pixels = static_cast<std::uint64_t>(layout_.width_px) * static_cast<std::uint64_t>(layout_.height_px);
   std::uint64_t bytes = detail::CellTracer::ring_bytes(layout_.width_px);
+  // A constant-material cell's filled row (slice_cell).
+  bytes += static_cast<std::uint64_t>(layout_.width_px) * detail::CellTracer::kTracedBytesPerPixel;
   for (const auto& tv : trivariates_)
     if (tv->traced_first) bytes += pixels * detail::CellTracer::kTracedBytesPerPixel;
   return bytes;

@@ -61,6 +61,8 @@ struct Slicer::CellData {
   bool model_space_clauses = false;  // any kVolume or kShell clause
   bool parametric_clauses = false;
   bool parametric_outlines = false;  // any kParametric clause with an outline
+  // One constant material, no clauses, no greyscale source (SliceParams::fill_constant_interiors).
+  bool fills_interior = false;
 };
 
 // A layer's dense rasters, handed out all zero and handed back all zero: the slicer clears
@@ -102,7 +104,8 @@ struct Slicer::LayerWork {
   // Scratch.
   std::vector<Segment2> segments;
   std::vector<int> directions;
-  detail::RowSpans spans, outline_spans;
+  detail::RowSpans spans, outline_spans, interior;
+  detail::TracedRow filled;
   std::vector<std::array<Vec3, 3>> slab_triangles;
   detail::TracedRow kept;
   std::vector<float> fractions;

@@ -59,6 +59,14 @@ struct SliceParams {
   // is inverted and then tested: the same output, more inversions (the reference the
   // narrowing is checked against).
   bool model_space_narrowing = true;
+  // With trivox's own strategies (predict, flood), cells of one constant material,
+  // untrimmed, without a greyscale source and not folded take the pixels their outline
+  // decides inside (centres inside its cut and farther than the band from it) without
+  // inverting them: no (u, v, w) is needed to give them their material, so only the band
+  // (and 8 pixels beside it, to seed it) is traced. Off, every candidate pixel is inverted:
+  // the same inside pixels except where a pixel centre lies within the residual tolerance
+  // of a face, which either answer meets (the reference the fill is checked against).
+  bool fill_constant_interiors = true;
   // The dithering; absent: the scene's "dithering" settings, else DitherParams' defaults.
   std::optional<DitherParams> dither;
   // Memory (bytes) the job may use, 0 for no limit. The cells' outline meshes get at most

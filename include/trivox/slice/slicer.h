@@ -95,6 +95,7 @@ class Slicer {
   static bool passes_parametric_clauses(const CellData& cd, Vec3 uvw);
   const detail::TracedRow& kept_by_trims(const CellData& cd, int row, const detail::TracedRow& traced,
                                          bool test_model_space, detail::TracedRow& kept, const LayerWork& w) const;
+  const detail::TracedRow& interior_row(const CellData& cd, int row, LayerWork& w) const;
   void paint_row(int cell, int row, const detail::TracedRow& traced, LayerWork& w) const;
   void count_labels(LayerResult& result, LayerWork& w, std::vector<int>* owner) const;
 
