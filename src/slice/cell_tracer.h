@@ -149,8 +149,8 @@ class CellTracer {
   const GlobalSolver& solver_;
   const SliceParams& params_;
   GlobalSolveParams global_;  // params_.global, with params_.stop
-  bool predicts_;  // the strategy guesses and takes Jacobian steps
-  bool folded_;    // every pixel by the global solver
+  bool predicts_;             // the strategy guesses and takes Jacobian steps
+  bool folded_;               // every pixel by the global solver
   int width_;
   int rows_in_flight_;
   double z_mm_ = 0;

@@ -26,8 +26,7 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& l
 // not within `margin_mm` of any segment (candidate_spans' band), so that each lies in the cell
 // whenever the outline is within `margin_mm` of the true boundary. A subset of the
 // candidates; rows with an odd number of crossings have none.
-void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
-                    RowSpans& rows);
+void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm, RowSpans& rows);
 
 // Adds to `rows` every pixel whose centre lies within `margin_mm` (in x and in y) of the part
 // of a triangle inside the slab z0 <= z <= z1, projected on the layer: with the even-odd

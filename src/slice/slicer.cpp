@@ -159,7 +159,8 @@ void Slicer::prepare_cells() {
       cd->clauses.push_back(std::move(k));
     }
     // The paper's strategies (Table 1) keep inverting every pixel, as the paper does.
-    const bool own_strategy = params_.tracing == TracingStrategy::kPredict || params_.tracing == TracingStrategy::kFlood;
+    const bool own_strategy =
+        params_.tracing == TracingStrategy::kPredict || params_.tracing == TracingStrategy::kFlood;
     cd->fills_interior = params_.fill_constant_interiors && own_strategy && cd->clauses.empty() && !c.grey_source &&
                          !trivariates_[static_cast<std::size_t>(cd->trivariate)]->fold &&
                          is_constant(*c.material, c.volume.domain());
