@@ -70,9 +70,22 @@ void crossings_and_band(const std::vector<Segment2>& segments, const SliceLayout
 
 }  // namespace
 
-void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
+void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows,
+                     RowSpans* interior) {
   std::vector<std::vector<double>> crossings;
   crossings_and_band(segments, L, m, crossings, rows);
+  if (interior != nullptr) {
+    // The even-odd inside, less the band (not yet widened by the intervals below).
+    RowSpans band = rows;
+    merge_spans(band);
+    interior->assign(static_cast<std::size_t>(L.height_px), {});
+    for (int r = 0; r < L.height_px; ++r) {
+      const auto& xs = crossings[static_cast<std::size_t>(r)];
+      if (xs.size() % 2 == 1) continue;  // a numerically open outline decides nothing
+      for (std::size_t i = 0; i + 1 < xs.size(); i += 2) add_span(*interior, L, r, xs[i], xs[i + 1]);
+    }
+    subtract_spans(*interior, band);
+  }
   for (int r = 0; r < L.height_px; ++r) {
     const auto& xs = crossings[static_cast<std::size_t>(r)];
     if (xs.size() % 2 == 1) {
@@ -82,20 +95,6 @@ void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L
     }
   }
   merge_spans(rows);
-}
-
-void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows) {
-  std::vector<std::vector<double>> crossings;
-  RowSpans band;
-  crossings_and_band(segments, L, m, crossings, band);
-  merge_spans(band);
-  rows.assign(static_cast<std::size_t>(L.height_px), {});
-  for (int r = 0; r < L.height_px; ++r) {
-    const auto& xs = crossings[static_cast<std::size_t>(r)];
-    if (xs.size() % 2 == 1) continue;  // a numerically open outline decides nothing
-    for (std::size_t i = 0; i + 1 < xs.size(); i += 2) add_span(rows, L, r, xs[i], xs[i + 1]);
-  }
-  subtract_spans(rows, band);
 }
 
 void merge_spans(RowSpans& rows) {

@@ -19,14 +19,12 @@ using RowSpans = std::vector<std::vector<std::pair<int, int>>>;
 // pixel whose centre lies in the cell is a candidate whenever the outline is within
 // `margin_mm` of the true boundary. Rows with an odd number of crossings (a numerically
 // open outline) fall back to the whole span between their first and last crossing.
-void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm,
-                     RowSpans& rows);
-
-// The pixels an outline decides inside by itself: centres inside by the even-odd rule and
-// not within `margin_mm` of any segment (candidate_spans' band), so that each lies in the cell
-// whenever the outline is within `margin_mm` of the true boundary. A subset of the
-// candidates; rows with an odd number of crossings have none.
-void interior_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm, RowSpans& rows);
+// With `interior`, also the pixels the outline decides inside by itself, from the same
+// crossings: centres inside by the even-odd rule and not within `margin_mm` of any segment,
+// so that each lies in the cell whenever the outline is within `margin_mm` of the true
+// boundary (none in a row with an odd number of crossings).
+void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& layout, double margin_mm, RowSpans& rows,
+                     RowSpans* interior = nullptr);
 
 // Adds to `rows` every pixel whose centre lies within `margin_mm` (in x and in y) of the part
 // of a triangle inside the slab z0 <= z <= z1, projected on the layer: with the even-odd

@@ -70,14 +70,14 @@ LayerResult Slicer::slice_layer(int layer, std::vector<int>* owner_out, LayerRas
 }
 
 bool Slicer::Trivariate::candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
-                                    detail::RowSpans& spans) const {
+                                    detail::RowSpans& spans, detail::RowSpans* interior) const {
   if (fold) {
     fold->spans(layout, z_mm, band_mm, spans);
     return std::any_of(spans.begin(), spans.end(), [](const auto& row) { return !row.empty(); });
   }
   mesh.cut(z_mm, segments);
   if (segments.empty()) return false;
-  detail::candidate_spans(segments, layout, band_mm, spans);
+  detail::candidate_spans(segments, layout, band_mm, spans, interior);
   return true;
 }
 
@@ -164,10 +164,38 @@ bool Slicer::passes_parametric_clauses(const CellData& cd, Vec3 uvw) {
 
 bool Slicer::candidate_pixels(const CellData& cd, LayerWork& w) const {
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
-  if (!tv.candidates(layout_, w.stats.z_mm, w.segments, w.spans)) return false;
+  if (!tv.candidates(layout_, w.stats.z_mm, w.segments, w.spans, cd.fills_interior ? &w.interior : nullptr))
+    return false;
   if (cd.model_space_clauses && params_.model_space_narrowing) narrow_to_model_space_clauses(cd, w);
   if (cd.parametric_outlines && params_.parametric_outlines) narrow_to_parametric_outlines(cd, w);
+  if (cd.fills_interior) split_off_interior(tv, w);
   return true;
+}
+
+// A constant material needs no (u, v, w): of the interior the cut decides (w.interior), the
+// pixels to fill are taken out of the candidates, and only the band around the outline is
+// traced.
+void Slicer::split_off_interior(const Trivariate& tv, LayerWork& w) const {
+  const double band = tv.band_mm, z = w.stats.z_mm;
+  // Where a face lies nearly in the layer's plane, the mesh's small error across the face is
+  // a wide one in the plane: no pixel within the band of a triangle that meets the slab of
+  // the band's height around the layer is filled (such pixels are traced).
+  tv.mesh.slab(z - band, z + band, w.slab_triangles);
+  for (auto& row : w.outline_spans) row.clear();
+  detail::add_slab_spans(w.slab_triangles, z - band, z + band, layout_, band, w.outline_spans);
+  detail::merge_spans(w.outline_spans);
+  detail::subtract_spans(w.interior, w.outline_spans);
+  // The band's pixels are traced with a few interior pixels beside them: solved, those seed
+  // the band's pixels of the rows below (a pixel's seeds are its solved neighbours) and flood
+  // back to the pixels just outside, so that Newton, failing on the face, hands the global
+  // solver the face's normal.
+  for (auto& row : w.interior) {
+    std::size_t kept = 0;
+    for (auto [c0, c1] : row)
+      if (c0 + kSeedMarginPx <= c1 - kSeedMarginPx) row[kept++] = {c0 + kSeedMarginPx, c1 - kSeedMarginPx};
+    row.resize(kept);
+  }
+  detail::subtract_spans(w.spans, w.interior);
 }
 
 // Only pixels that pass the volume and shell clauses are worth inverting: those clauses are
@@ -247,35 +275,11 @@ void Slicer::slice_cell(int ci, LayerWork& w) const {
     return;
   }
   if (!candidate_pixels(cd, w)) return;
-  // A constant material needs no (u, v, w): the pixels the outline decides are filled, only
-  // the band around it is traced (w.segments holds the outline's cut from candidate_pixels).
-  if (cd.fills_interior) {
-    const double band = tv.band_mm, z = w.stats.z_mm;
-    detail::interior_spans(w.segments, layout_, band, w.interior);
-    // Where a face lies nearly in the layer's plane, the mesh's small error across the face
-    // is a wide one in the plane: no pixel within the band of a triangle that meets the slab
-    // of the band's height around the layer is filled (such pixels are traced).
-    tv.mesh.slab(z - band, z + band, w.slab_triangles);
-    for (auto& row : w.outline_spans) row.clear();
-    detail::add_slab_spans(w.slab_triangles, z - band, z + band, layout_, band, w.outline_spans);
-    detail::merge_spans(w.outline_spans);
-    detail::subtract_spans(w.interior, w.outline_spans);
-    // The band's pixels are traced with a few interior pixels beside them: solved, those
-    // seed the band's pixels of the rows below (a pixel's seeds are its solved neighbours)
-    // and flood back to the pixels just outside, so that Newton, failing on the face, hands
-    // the global solver the face's normal.
-    for (auto& row : w.interior) {
-      std::size_t kept = 0;
-      for (auto [c0, c1] : row)
-        if (c0 + kSeedMarginPx <= c1 - kSeedMarginPx) row[kept++] = {c0 + kSeedMarginPx, c1 - kSeedMarginPx};
-      row.resize(kept);
-    }
-    detail::subtract_spans(w.spans, w.interior);
-  }
   detail::CellTracer tracer(*tv.volume, tv.solver, params_, layout_.width_px, detail::CellTracer::kDefaultRowsInFlight,
                             tv.fold.has_value());
   tracer.trace_layer(layout_, w.stats.z_mm, w.spans, paint);
   w.counters += tracer.counters();
+  // The interior split off from the candidates (split_off_interior), filled.
   if (cd.fills_interior)
     for (int r = 0; r < layout_.height_px; ++r)
       if (!w.interior[static_cast<std::size_t>(r)].empty()) paint(r, interior_row(cd, r, w));

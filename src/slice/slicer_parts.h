@@ -38,9 +38,10 @@ struct Slicer::Trivariate {
   explicit Trivariate(const Volume& v) : volume(&v), solver(v) {}
 
   // The layer's candidate pixels into `spans` (the outline's cut widened by the band, or the
-  // fold's boxes); false when there are none.
-  bool candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments,
-                  detail::RowSpans& spans) const;
+  // fold's boxes); false when there are none. With `interior` (never for a fold), also the
+  // pixels the cut decides inside (detail::candidate_spans).
+  bool candidates(const SliceLayout& layout, double z_mm, std::vector<Segment2>& segments, detail::RowSpans& spans,
+                  detail::RowSpans* interior = nullptr) const;
 };
 
 struct Slicer::CellData {

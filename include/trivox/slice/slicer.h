@@ -91,6 +91,7 @@ class Slicer {
   bool candidate_pixels(const CellData& cd, LayerWork& w) const;
   void narrow_to_model_space_clauses(const CellData& cd, LayerWork& w) const;
   void narrow_to_parametric_outlines(const CellData& cd, LayerWork& w) const;
+  void split_off_interior(const Trivariate& tv, LayerWork& w) const;
   bool passes_model_space_clauses(const CellData& cd, int col, int row, const LayerWork& w) const;
   static bool passes_parametric_clauses(const CellData& cd, Vec3 uvw);
   const detail::TracedRow& kept_by_trims(const CellData& cd, int row, const detail::TracedRow& traced,
