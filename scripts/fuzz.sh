@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (preset "fuzz": clang, AddressSanitizer + UBSan) and runs each
 # for SECONDS (default 90), two at a time (TRIVOX_FUZZ_PARALLEL, default 2):
-#   scripts/fuzz.sh [SECONDS] [TARGET...]     TARGETs: itd gismo_xml scene expression g2 pipeline (all)
+#   scripts/fuzz.sh [SECONDS] [TARGET...]     TARGETs: itd gismo_xml scene expression g2 pipeline
+#                                             cache_entry (all)
 # Seeds: fuzz/corpus/<target>/ (written for the fuzzers), the regression inputs
 # fuzz/regressions/<target>/, and files staged from examples/ and tests/data/ at run time.
 # New inputs go to build/fuzz/corpus/<target>/ (kept between runs), crash inputs to
@@ -17,7 +18,7 @@ cd "$(dirname "$0")/.."
 seconds="${1:-90}"
 shift || true
 targets=("$@")
-[ "${#targets[@]}" -gt 0 ] || targets=(itd gismo_xml scene expression g2 pipeline)
+[ "${#targets[@]}" -gt 0 ] || targets=(itd gismo_xml scene expression g2 pipeline cache_entry)
 case "$seconds" in
   ''|*[!0-9]*) echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2 ;;
 esac
@@ -44,7 +45,7 @@ stage_seeds() {
       cp tests/data/models/*.g2 tests/data/malformed/*.g2 "$dir"/
       # The real GoTools files, when ../shared is beside the repository (read, not copied into it).
       if [ -d ../shared/data/gotools ]; then cp ../shared/data/gotools/*.g2 "$dir"/; fi ;;
-    pipeline) ;;  # its inputs are choices, not files: fuzz/corpus/pipeline holds them
+    pipeline | cache_entry) ;;  # fuzz/corpus/<target> holds their seeds
     expression)
       # Each fractions value of the example scenes, one file per expression.
       grep -ho '"Vero[A-Za-z]*": "[^"]*"' examples/scenes/*.json | sed 's/^[^:]*: "//; s/"$//' |

@@ -1,5 +1,6 @@
 #include "harness/fuzz_harness.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,7 +10,9 @@
 #include <condition_variable>
 #include <cstddef>
 #include <fstream>
+#include <iterator>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -20,6 +23,7 @@
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/material/expression_material.h"
+#include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/job.h"
 #include "trivox/slice/job_estimate.h"
@@ -163,6 +167,32 @@ void run_g2(std::span<const std::uint8_t> data) {
   check_round_trip(model);
 }
 
+void run_cache_entry(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir) {
+  const std::string_view bytes = as_text(data);
+  // The key the header names (after the magic and the format), so that the fuzzer gets past
+  // the header to the payload; any other bytes are tried under a fixed key.
+  std::string key(64, '0');
+  if (bytes.size() >= 76 && std::all_of(bytes.begin() + 12, bytes.begin() + 76,
+                                        [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); }))
+    key = std::string(bytes.substr(12, 64));
+  std::string problem;
+  const std::optional<Constructed> decoded = decode_construction_entry(bytes, key, &problem);
+  if (decoded && encode_construction_entry(key, *decoded) != bytes)
+    throw HarnessViolation("an accepted cache entry does not encode back to its bytes");
+  const std::filesystem::path dir = work_dir / "cache";
+  std::filesystem::create_directories(dir);
+  ConstructionCache cache(dir, "fuzz");
+  {
+    std::ofstream out(cache.entry_path(key), std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  const std::optional<Constructed> loaded = cache.load(key);
+  if (loaded.has_value() != decoded.has_value())
+    throw HarnessViolation("the cache and the entry decoder disagree on an entry: " + problem);
+  if (loaded && encode_construction_entry(key, *loaded) != bytes)
+    throw HarnessViolation("a loaded cache entry is not the volume its bytes hold");
+}
+
 void run_gismo_xml(std::span<const std::uint8_t> data) { run_model_reader(&read_gismo_xml, data, "fuzz.xml"); }
 
 void run_scene(std::span<const std::uint8_t> data, const std::filesystem::path& scene_dir) {
@@ -284,7 +314,58 @@ void check_stopped_job(const std::filesystem::path& dir) {
   if (report.problems.size() != 1) throw HarnessViolation("a stopped job does not verify: " + report.problems.back());
 }
 
+// The scene read through a construction cache whose entries are damaged between two reads: the
+// second read must take none of them and give the cells a read without the cache gives, bit
+// for bit (an entry must never change the geometry).
+Scene read_through_damaged_cache(const PipelineJob& job, const std::filesystem::path& dir,
+                                 const std::atomic<bool>* stop) {
+  namespace fs = std::filesystem;
+  const fs::path source = dir / "scene.json", cache_dir = dir / "cache";
+  fs::remove_all(cache_dir);
+  const Scene plain = parse_scene(job.scene_json, source, stop);
+  ConstructionCache first(cache_dir, "fuzz");
+  parse_scene(job.scene_json, source, SceneReadOptions{stop, &first});
+  if (fs::is_directory(cache_dir))
+    for (const auto& e : fs::directory_iterator(cache_dir)) damage_cache_entry(e.path(), job.cache_damage);
+  ConstructionCache second(cache_dir, "fuzz");
+  Scene again = parse_scene(job.scene_json, source, SceneReadOptions{stop, &second});
+  if (second.hits() != 0) throw HarnessViolation("a damaged construction cache entry was used");
+  for (std::size_t i = 0; i < plain.cells.size(); ++i) {
+    const auto a = plain.cells[i].volume.spline().points(), b = again.cells[i].volume.spline().points();
+    if (!std::equal(a.begin(), a.end(), b.begin(), b.end()))
+      throw HarnessViolation("a damaged construction cache entry changed a cell's geometry");
+  }
+  return again;
+}
+
 }  // namespace
+
+void damage_cache_entry(const std::filesystem::path& entry, int damage) {
+  namespace fs = std::filesystem;
+  if (damage == kTruncated) {
+    fs::resize_file(entry, fs::file_size(entry) / 2);
+    return;
+  }
+  if (damage == kReplacedGeometry) {
+    const std::string key = entry.stem().string();
+    std::ifstream in(entry, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::optional<Constructed> built = decode_construction_entry(bytes, key, nullptr);
+    if (!built) throw HarnessViolation("the cache stored an entry it cannot read back");
+    const TensorSpline& s = built->volume.spline();
+    std::vector<double> points(s.points().begin(), s.points().end());
+    for (std::size_t i = 2; i < points.size(); i += 3) points[i] = 3 * points[i] + 1;
+    const Constructed tall{Volume(TensorSpline(s.all_knots(), 3, std::move(points),
+                                               std::vector<double>(s.weights().begin(), s.weights().end()))),
+                           built->report};
+    write_file(entry, encode_construction_entry(key, tall));
+    return;
+  }
+  fs::remove(entry);
+  if (damage == kDirectory) fs::create_directory(entry);
+  if (damage == kFifo && ::mkfifo(entry.c_str(), 0600) != 0) throw std::runtime_error("cannot make a FIFO");
+  if (damage == kDeviceLink) fs::create_symlink("/dev/zero", entry);
+}
 
 PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir) {
   const auto start = std::chrono::steady_clock::now();
@@ -300,7 +381,9 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
   const PipelineJob job = generate_pipeline_job(data);
   const Watchdog watchdog(kPipelineStopSeconds);
   try {
-    const Scene scene = parse_scene(job.scene_json, work_dir / "scene.json");
+    for (const auto& [name, bytes] : job.files) write_file(work_dir / name, bytes);
+    const Scene scene = job.cache_damage == kNoCache ? parse_scene(job.scene_json, work_dir / "scene.json")
+                                                     : read_through_damaged_cache(job, work_dir, watchdog.flag());
     SliceParams sp;
     sp.tracing = parse_tracing_strategy(job.tracing).value_or(TracingStrategy::kFlood);
     sp.newton.residual_tolerance_model = job.residual_tolerance_mm;
@@ -411,6 +494,8 @@ bool run_target(std::string_view target, std::span<const std::uint8_t> data, con
     run_pipeline(data, scene_dir / "pipeline");
   else if (target == "g2")
     run_g2(data);
+  else if (target == "cache_entry")
+    run_cache_entry(data, scene_dir / "cache_entry");
   else
     return false;
   return true;

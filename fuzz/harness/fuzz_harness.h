@@ -25,7 +25,8 @@ class HarnessViolation : public std::logic_error {
 };
 
 // The targets, by the name used for fuzz/corpus/<name> and fuzz/regressions/<name>.
-inline constexpr std::string_view kTargets[] = {"itd", "gismo_xml", "scene", "expression", "g2", "pipeline"};
+inline constexpr std::string_view kTargets[] = {"itd", "gismo_xml", "scene",      "expression",
+                                                "g2",  "pipeline",  "cache_entry"};
 
 // IRIT .itd text: read_itd; an accepted model must survive write_itd and read back with the
 // same patch count.
@@ -43,6 +44,16 @@ void run_scene(std::span<const std::uint8_t> data, const std::filesystem::path& 
 // Expression materials: each line of the input is one material's expression (at most 8);
 // the material is built over a cell domain and evaluated on a short row of samples.
 void run_expression(std::span<const std::uint8_t> data);
+
+// A construction cache entry (trivox/scene/construction_cache.h), under the key its header
+// names: decode_construction_entry, whose accepted volume must encode back to the same bytes;
+// then the bytes as the entry's file in `work_dir`/cache, which ConstructionCache::load must
+// take (the same volume) or refuse with a warning, never an exception.
+void run_cache_entry(std::span<const std::uint8_t> data, const std::filesystem::path& work_dir);
+
+// Damages the construction cache entry at `entry` as `damage` (pipeline_job.h, CacheDamage)
+// says: what the pipeline target does to the entries it stages, and the tests to theirs.
+void damage_cache_entry(const std::filesystem::path& entry, int damage);
 
 // The whole pipeline (pipeline_job.h): a valid scene with extreme values generated from the
 // bytes, read, prepared for slicing within a memory limit of 256 MB beyond what the process

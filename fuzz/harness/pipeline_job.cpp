@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
@@ -179,6 +180,58 @@ json material(ByteChoices& c, const std::vector<std::string>& materials) {
   }
 }
 
+// An ASCII STL of the box [0, s]^3 with a hostile twist: 0 none, 1 every triangle doubled (a
+// part exported twice), 2 a stack of coplanar faces over its bottom (each slightly shifted, so
+// that no weld joins them), 3 a vertex of two numbers.
+std::string trim_stl(ByteChoices& c) {
+  const double s = c.log_uniform(1e-3, 1e3);
+  const int twist = c.pick(4);
+  const double v[8][3] = {{0, 0, 0}, {s, 0, 0}, {0, s, 0}, {s, s, 0}, {0, 0, s}, {s, 0, s}, {0, s, s}, {s, s, s}};
+  const int tri[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                          {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  std::string out = "solid fuzz\n";
+  const auto facet = [&](const double(&a)[3], const double(&b)[3], const double(&d)[3]) {
+    out += "facet normal 0 0 0\nouter loop\n";
+    for (const auto* p : {&a, &b, &d})
+      out += "vertex " + std::to_string((*p)[0]) + " " + std::to_string((*p)[1]) + " " + std::to_string((*p)[2]) + "\n";
+    out += "endloop\nendfacet\n";
+  };
+  for (int copy = 0; copy < (twist == 1 ? 2 : 1); ++copy)
+    for (const auto& t : tri) facet(v[t[0]], v[t[1]], v[t[2]]);
+  if (twist == 2) {
+    const int layers = 1 + c.pick(3000);
+    for (int i = 0; i < layers; ++i) {
+      const double d = s * 1e-4 * (i + 1);
+      const double a[3] = {d, 0, 0}, b[3] = {s + d, 0, 0}, e[3] = {d, s, 0};
+      facet(a, b, e);
+    }
+  }
+  if (twist == 3) out.replace(out.find("vertex"), 6, "vertex 1 2\nvertex");
+  return out + "endsolid fuzz\n";
+}
+
+// A closed plate extruded: the constructed geometry the construction cache keeps.
+json extruded_plate(ByteChoices& c) {
+  const double s = c.log_uniform(1e-2, 1e2);
+  const json plate = {{"orders", {2, 2}},
+                      {"knots", {{0, 0, 1, 1}, {0, 0, 1, 1}}},
+                      {"points", {{0, 0, 0}, {s, 0, 0}, {0, s, 0}, {s, s, 0}}}};
+  return {{"extrude", {{"surface", plate}, {"vector_mm", {0, 0, c.log_uniform(1e-2, 1e2)}}}}};
+}
+
+// The hostile inputs of the last choices: a mesh trim from a staged file, a construction cache
+// whose entries are damaged before the second read.
+void add_hostile_inputs(ByteChoices& c, json& scene, PipelineJob& job) {
+  if (c.pick(3) == 1) {
+    job.files.emplace_back("trim.stl", trim_stl(c));
+    json shell = {{"mesh", "trim.stl"}, {"inside_rule", c.coin() ? "winding-number" : "even-odd"}};
+    if (c.pick(4) == 0) shell["placement"] = placement(c);
+    scene["cells"][0]["trim"] = json::array({{{"side", c.coin() ? "inside" : "outside"}, {"shell", shell}}});
+  }
+  job.cache_damage = c.pick(kCacheDamages);
+  if (job.cache_damage != kNoCache) scene["cells"][0]["geometry"] = extruded_plate(c);
+}
+
 }  // namespace
 
 PipelineJob generate_pipeline_job(std::span<const std::uint8_t> data) {
@@ -234,6 +287,9 @@ PipelineJob generate_pipeline_job(std::span<const std::uint8_t> data) {
   job.first_layer_fraction = c.unit();
   job.layer_count = 1 + c.pick(3);
   job.threads = 1 + c.pick(2);
+  // Drawn last, so that the choices above mean for an older seed what they meant before.
+  add_hostile_inputs(c, scene, job);
+  job.scene_json = scene.dump();
   return job;
 }
 

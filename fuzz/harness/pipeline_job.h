@@ -12,6 +12,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace trivox::fuzz {
@@ -47,7 +48,18 @@ struct PipelineJob {
   double first_layer_fraction = 0.5;
   int layer_count = 1;
   int threads = 1;
+  // Files the scene names, written into the work folder before it is read: name, bytes (a
+  // mesh trim's STL: a box, doubled, a stack of coplanar faces, a malformed vertex).
+  std::vector<std::pair<std::string, std::string>> files;
+  // The construction cache (the first cell then built by a constructor): 0, none; else the
+  // scene is read once with a cache in the work folder, every entry there damaged
+  // (kCacheDamage), and read again, which must give the volumes a read without the cache gives.
+  int cache_damage = 0;
 };
+
+// How a staged cache entry is damaged: cut short, replaced by a directory, by a FIFO, by a
+// link to /dev/zero, or its volume stretched and sealed again with its SHA-256 recomputed.
+enum CacheDamage : int { kNoCache, kTruncated, kDirectory, kFifo, kDeviceLink, kReplacedGeometry, kCacheDamages };
 
 PipelineJob generate_pipeline_job(std::span<const std::uint8_t> data);
 

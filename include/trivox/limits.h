@@ -28,6 +28,22 @@ constexpr std::optional<std::int64_t> product_within(std::int64_t a, std::int64_
 // checked and bucketed by height they take about 4 GB.
 inline constexpr std::int64_t kMaxMeshTriangles = 50'000'000;
 
+// Bytes a mesh trim takes per triangle at its peak, while it is read, placed and checked: the
+// file's welded arrays and the weld's index, the placed copy, the sliced mesh and its height
+// buckets, and the check's edge uses, boxes, cell ranges and at most 8 grid entries
+// (mesh/detail/mesh_check.h), with two vertices a triangle as a closed mesh has.
+inline constexpr std::int64_t kMeshTrimBytesPerTriangle = 400;
+
+// The memory this process may use: the machine's physical memory, lowered to RLIMIT_AS when
+// that is set; nullopt when neither is known. The budget up-front refusals measure against.
+std::optional<std::uint64_t> process_memory_limit_bytes();
+
+// Triangles one mesh file may have: kMaxMeshTriangles, lowered so that a mesh trim at its peak
+// (kMeshTrimBytesPerTriangle) takes at most half of process_memory_limit_bytes(), the other
+// half being the job's. A 3 MB 3MF that instances 20 million triangles is then refused before
+// they are allocated on a machine (or under a limit) of less than 16 GB.
+std::int64_t mesh_triangle_limit();
+
 // Materials in one scene (besides void). Labels of dithered layers are bytes with 0 for void,
 // and error diffusion keeps one error term per material and pixel, so the bound stays small.
 inline constexpr int kMaxMaterials = 64;
@@ -36,6 +52,13 @@ inline constexpr int kMaxMaterials = 64;
 // pixels; each pixel of a layer in flight costs some tens of bytes, so beyond this a job is a
 // unit or resolution mistake that would exhaust memory, and it is refused up front.
 inline constexpr long long kMaxLayerPixels = 1LL << 30;
+
+// The largest magnitude of a number read from a model file (a coordinate, a knot, a weight) or
+// of a length a constructor takes (a shell's thickness). det J multiplies three derivatives
+// and the inverse squares distances: past about 1e100 these overflow a double (1.8e308), and
+// no printable object is measured in such numbers, so they are refused where they are read,
+// as overflowing, rather than found later as an infinite or undefined det J.
+inline constexpr double kMaxModelNumber = 1e100;
 
 // Coordinates per control point in a model file (G+Smo's geoDim, GoTools' dimension).
 inline constexpr int kMaxModelPointDim = 1000;

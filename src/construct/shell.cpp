@@ -9,6 +9,7 @@
 
 #include "construct/construct_util.h"
 #include "trivox/error.h"
+#include "trivox/limits.h"
 #include "trivox/spline/refine.h"
 #include "trivox/spline/respace.h"
 
@@ -103,6 +104,11 @@ Constructed thick_shell(const TensorSpline& surface, const ShellParams& params) 
   TensorSpline s = detail::checked_surface(surface, "shell's surface");
   if (!(params.thickness_mm > 0.0) || !std::isfinite(params.thickness_mm))
     throw ModelError(fmt::format("the shell thickness {} mm is not > 0", params.thickness_mm));
+  if (params.thickness_mm > kMaxModelNumber)
+    throw ModelError(
+        fmt::format("the shell thickness {:g} mm overflows: lengths beyond {:g} mm overflow in the "
+                    "offset's det J",
+                    params.thickness_mm, kMaxModelNumber));
   if (params.knots_per_span < 0 || params.knots_per_span > 8)
     throw ModelError(fmt::format("knots_per_span {} is outside [0, 8]", params.knots_per_span));
   for (int dir = 0; dir < 2; ++dir) {

@@ -10,6 +10,7 @@
 #include "io/gismo_xml.h"
 #include "io/text_number.h"
 #include "trivox/error.h"
+#include "trivox/limits.h"
 
 namespace trivox::io_detail {
 
@@ -134,6 +135,10 @@ std::vector<double> XmlContext::read_ascii(pugi::xml_node node) const {
       if (!v) fail_at(line, node, fmt::format("'{}' is not a number", token.substr(0, 40)));
       if (!std::isfinite(*v))
         fail_at(line, node, fmt::format("'{}' is not finite (NaN and infinity are not allowed)", token));
+      if (std::abs(*v) > kMaxModelNumber)
+        fail_at(
+            line, node,
+            fmt::format("'{}' overflows: numbers beyond {:g} overflow in a volume's det J", token, kMaxModelNumber));
       values.push_back(*v);
     }
   }
@@ -163,6 +168,9 @@ std::vector<double> XmlContext::read_base64(pugi::xml_node node, const std::stri
     const double v = decode_value(bytes.data() + i, *f);
     if (!std::isfinite(v))
       fail(node, fmt::format("base64 value {} is not finite (NaN and infinity are not allowed)", i / f->bytes));
+    if (std::abs(v) > kMaxModelNumber)
+      fail(node, fmt::format("base64 value {} is {:g}: numbers beyond {:g} overflow in a volume's det J", i / f->bytes,
+                             v, kMaxModelNumber));
     values.push_back(v);
   }
   return values;

@@ -32,7 +32,7 @@ class MeshBuilder {
   explicit MeshBuilder(TriangleMeshFile& out) : out_(out) {}
 
   // Makes room for `triangles` more triangles and `vertices` more vertices, or throws
-  // InputError when the file's total would pass kMaxMeshTriangles (or three vertices a
+  // InputError when the file's total would pass mesh_triangle_limit() (or three vertices a
   // triangle). Call before allocating anything for them.
   void expect(std::int64_t triangles, std::int64_t vertices, const std::string& what);
   // The index of p after the weld (equal coordinates, -0 equal to 0); InputError naming

@@ -1,16 +1,14 @@
 // read_model: picks the reader by file extension, or by the first character of the content
 // when the extension says nothing ('<' is XML, '[' is IRIT text, a digit is a GoTools header).
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-#include <iterator>
-#include <sstream>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <system_error>
 
 #include <fmt/format.h>
 
 #include "trivox/error.h"
+#include "trivox/io/detail/regular_file.h"
 #include "trivox/io/model.h"
 
 namespace trivox {
@@ -28,12 +26,12 @@ std::string read_file(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read model '{}': it is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("cannot open model '{}': {}", path.string(), std::strerror(errno)));
-  std::ostringstream buf;
-  buf << in.rdbuf();
-  if (in.bad() || buf.bad()) throw IoError(fmt::format("reading model '{}' failed", path.string()));
-  return std::move(buf).str();
+  // A device or a FIFO is refused by what it is (regular_file.h), not read until memory runs out.
+  try {
+    return read_regular_file(path, std::numeric_limits<std::uint64_t>::max());
+  } catch (const IoError& e) {
+    throw IoError(fmt::format("cannot read model: {}", e.what()));
+  }
 }
 
 std::string lowercase(std::string s) {

@@ -3,11 +3,9 @@
 // triangle welded by MeshBuilder.
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
-#include <fstream>
-#include <iterator>
+#include <cstdint>
+#include <limits>
 #include <new>
 #include <sstream>
 #include <string>
@@ -21,7 +19,9 @@
 #include <fmt/format.h>
 
 #include "io/mesh_builder.h"
+#include "io/text_number.h"
 #include "trivox/error.h"
+#include "trivox/io/detail/regular_file.h"
 #include "trivox/io/triangle_mesh.h"
 #include "trivox/limits.h"
 
@@ -66,13 +66,18 @@ MeshTransform MeshTransform::scaled(double s) const noexcept {
 }
 
 void MeshBuilder::expect(std::int64_t triangles, std::int64_t vertices, const std::string& what) {
-  const std::int64_t max_vertices = *product_within(kMaxMeshTriangles, 3, INT64_MAX);
-  if (triangles < 0 || vertices < 0 || triangles > kMaxMeshTriangles - triangles_expected_ ||
+  // Derived from the memory budget (limits.h), so that a small file instancing many triangles
+  // (a 3MF's components) is refused before they are allocated.
+  static const std::int64_t max_triangles = mesh_triangle_limit();
+  const std::int64_t max_vertices = *product_within(max_triangles, 3, INT64_MAX);
+  if (triangles < 0 || vertices < 0 || triangles > max_triangles - triangles_expected_ ||
       vertices > max_vertices - vertices_expected_)
     throw InputError(out_.source, 0, what,
                      fmt::format("{} triangles and {} vertices more than the {} and {} before would pass the limit of "
-                                 "{} triangles (and three vertices a triangle) a mesh may have",
-                                 triangles, vertices, triangles_expected_, vertices_expected_, kMaxMeshTriangles));
+                                 "{} triangles (and three vertices a triangle) a mesh may have: {} bytes a triangle "
+                                 "while it is checked, within half of the memory this process may use",
+                                 triangles, vertices, triangles_expected_, vertices_expected_, max_triangles,
+                                 kMeshTrimBytesPerTriangle));
   triangles_expected_ += triangles;
   vertices_expected_ += vertices;
   out_.triangles.reserve(static_cast<std::size_t>(triangles_expected_));
@@ -130,9 +135,11 @@ std::string check_stl(std::span<const std::uint8_t> bytes, const std::string& so
   if (size >= 84) {
     const std::int64_t count = read_le32(bytes.data() + 80);
     if (84 + 50 * count == size) {
-      if (count > kMaxMeshTriangles)
+      if (count > mesh_triangle_limit())
         throw InputError(source, 0, "binary STL",
-                         fmt::format("{} triangles, more than the {} a mesh may have", count, kMaxMeshTriangles));
+                         fmt::format("{} triangles, more than the {} a mesh may have (limits.h, "
+                                     "mesh_triangle_limit)",
+                                     count, mesh_triangle_limit()));
       return "binary STL";
     }
   }
@@ -149,6 +156,49 @@ std::string check_stl(std::span<const std::uint8_t> bytes, const std::string& so
                                  size, said));
   }
   return "ASCII STL";
+}
+
+// The lines of an ASCII STL that carry numbers, checked before assimp reads the file: assimp
+// reads a vertex of two numbers by taking the next word as the third and reports a character
+// the file does not hold, on no line. Here "vertex" takes exactly three numbers and "facet
+// normal" three, the vertex's finite, and a problem names its line.
+void check_ascii_stl(std::span<const std::uint8_t> bytes, const std::string& source) {
+  const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  int line = 0;
+  for (std::size_t at = 0; at < text.size();) {
+    std::size_t end = text.find('\n', at);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view row = text.substr(at, end - at);
+    at = end + 1;
+    ++line;
+    std::vector<std::string_view> words;
+    for (std::size_t i = 0; i < row.size();) {
+      while (i < row.size() && (row[i] == ' ' || row[i] == '\t' || row[i] == '\r')) ++i;
+      std::size_t j = i;
+      while (j < row.size() && row[j] != ' ' && row[j] != '\t' && row[j] != '\r') ++j;
+      if (j > i) words.push_back(row.substr(i, j - i));
+      i = j;
+    }
+    if (words.empty()) continue;
+    const std::string first = lowercase(std::string(words[0]));
+    std::size_t from = 1;
+    if (first == "facet" && words.size() > 1 && lowercase(std::string(words[1])) == "normal")
+      from = 2;
+    else if (first != "vertex")
+      continue;
+    const std::string what = from == 2 ? "a facet normal" : "a vertex";
+    if (words.size() - from != 3)
+      throw InputError(source, line, "ASCII STL",
+                       fmt::format("{} has {} numbers; it needs three (x, y and z)", what, words.size() - from));
+    for (std::size_t w = from; w < words.size(); ++w) {
+      // A normal is not used (the corners give the triangle), so only a vertex must be finite.
+      const auto v = io_detail::parse_double(words[w]);
+      if (!v || (from == 1 && !std::isfinite(*v)))
+        throw InputError(source, line, "ASCII STL",
+                         fmt::format("{} has \"{}\" where a finite number belongs", what,
+                                     words[w].substr(0, std::min<std::size_t>(words[w].size(), 40))));
+    }
+  }
 }
 
 // The element counts of a PLY header, each at most what the file's bytes can hold (one byte
@@ -274,11 +324,13 @@ std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read mesh '{}': it is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("cannot open mesh '{}': {}", path.string(), std::strerror(errno)));
-  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(fmt::format("reading mesh '{}' failed", path.string()));
-  return bytes;
+  // A device or a FIFO is refused by what it is (io/detail/regular_file.h).
+  try {
+    const std::string bytes = read_regular_file(path, std::numeric_limits<std::uint64_t>::max());
+    return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
+  } catch (const IoError& e) {
+    throw IoError(fmt::format("cannot read mesh: {}", e.what()));
+  }
 }
 
 }  // namespace
@@ -302,6 +354,7 @@ TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::st
     io_detail::read_3mf(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), builder, source);
   } else if (ext == ".stl") {
     out.format = check_stl(bytes, source);
+    if (out.format == "ASCII STL") check_ascii_stl(bytes, source);
     read_with_assimp(bytes, "stl", builder, out);
   } else if (ext == ".ply") {
     out.format = "PLY";

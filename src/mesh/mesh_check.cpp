@@ -1,9 +1,12 @@
 #include "trivox/mesh/detail/mesh_check.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <utility>
+
+#include "trivox/error.h"
 
 namespace trivox {
 
@@ -166,10 +169,10 @@ bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
   return std::min(a1, b1) - std::max(a0, b0) > floor_len;
 }
 
-MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params) {
-  MeshCheck r;
-  const auto& tris = mesh.triangles();
-  const auto& verts = mesh.vertices();
+namespace {
+
+// The edge checks: open, non-manifold and misoriented edges, from the sorted uses.
+void check_edges(const std::vector<SlicedMesh::Triangle>& tris, MeshCheck& r) {
   const std::vector<EdgeUse> uses = edge_uses(tris);
   for (std::size_t i = 0; i < uses.size();) {
     std::size_t j = i;
@@ -184,95 +187,200 @@ MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params) {
       note(r.misoriented_edges, first);
     i = j;
   }
-  if (!params.self_intersections || tris.size() < 2) return r;
+}
 
-  // Pairs of triangles whose boxes share a grid cell, each pair tested once: in the first cell
-  // (lowest x, then y, then z index) of the boxes' common cells. The cell is about a typical
-  // triangle's size, so a cell holds a few triangles.
-  const Box3& box = mesh.bounds();
-  std::vector<Box3> boxes(tris.size());
-  std::vector<double> sizes(tris.size());
+// Triangles with the corners of an earlier one (in any order: a part exported twice, a face
+// repeated): each is noted with the earlier one and marked, so that the intersection test,
+// which would find every copy overlapping every other, sees only the first.
+std::vector<std::uint8_t> mark_duplicates(const std::vector<SlicedMesh::Triangle>& tris, MeshDefect& d) {
+  std::vector<std::pair<std::array<int, 3>, int>> keys(tris.size());
   for (std::size_t t = 0; t < tris.size(); ++t) {
-    for (int v : tris[t]) boxes[t].expand(verts[static_cast<std::size_t>(v)]);
-    sizes[t] = max_abs(boxes[t].hi - boxes[t].lo);
+    std::array<int, 3> k{tris[t][0], tris[t][1], tris[t][2]};
+    std::sort(k.begin(), k.end());
+    keys[t] = {k, static_cast<int>(t)};
   }
-  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(sizes.size() / 2), sizes.end());
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint8_t> repeat(tris.size(), 0);
+  for (std::size_t i = 1; i < keys.size(); ++i)
+    if (keys[i].first == keys[i - 1].first) {
+      std::size_t first = i - 1;
+      while (first > 0 && keys[first - 1].first == keys[i].first) --first;
+      repeat[static_cast<std::size_t>(keys[i].second)] = 1;
+      note(d, keys[i].second, keys[first].second);
+    }
+  return repeat;
+}
+
+// The pairs of triangles whose boxes overlap, each tested once, within a budget of pairs looked
+// at and reading the stop flag (mesh_check.h).
+class PairSearch {
+ public:
+  PairSearch(const SlicedMesh& mesh, const MeshCheckParams& params, std::vector<std::uint8_t> skip, MeshCheck& r)
+      : tris_(mesh.triangles()), verts_(mesh.vertices()), params_(params), skip_(std::move(skip)), r_(r) {
+    const auto n = static_cast<std::int64_t>(tris_.size());
+    budget_ =
+        params.max_pair_tests > 0 ? params.max_pair_tests : std::max<std::int64_t>(std::int64_t{1} << 28, 256 * n);
+  }
+  void run(const Box3& box);
+
+ private:
+  struct Range {
+    std::int64_t lo[3], hi[3];
+  };
+  // Counts one pair looked at; false once the budget is spent (the search then stops).
+  bool spend() {
+    if (r_.intersections_cut_short) return false;
+    if ((spent_++ & 0xFFFF) == 0 && params_.stop != nullptr && params_.stop->load())
+      throw CancelledError("stopped while checking a mesh for self-intersections");
+    if (spent_ > budget_) r_.intersections_cut_short = true;
+    return !r_.intersections_cut_short;
+  }
+  std::array<Vec3, 3> corners(int t) const {
+    const auto& tri = tris_[static_cast<std::size_t>(t)];
+    return {verts_[static_cast<std::size_t>(tri[0])], verts_[static_cast<std::size_t>(tri[1])],
+            verts_[static_cast<std::size_t>(tri[2])]};
+  }
+  bool apart(std::size_t s, std::size_t t) const {
+    bool a = false;
+    for (int d = 0; d < 3; ++d) a = a || boxes_[s].hi[d] < boxes_[t].lo[d] || boxes_[t].hi[d] < boxes_[s].lo[d];
+    return a;
+  }
+  void test(int s, int t) {
+    int shared = 0;
+    for (int u : tris_[static_cast<std::size_t>(s)])
+      for (int v : tris_[static_cast<std::size_t>(t)]) shared += u == v;
+    if (shared >= 2) return;  // neighbours across an edge meet along it
+    if (triangles_intersect(corners(s), corners(t), params_.intersection_tolerance))
+      note(r_.self_intersections, std::min(s, t), std::max(s, t));
+  }
+  void grid(const Box3& box);
+  void cell_pairs();
+  void large_pairs();
+
+  const std::vector<SlicedMesh::Triangle>& tris_;
+  const std::vector<Vec3>& verts_;
+  const MeshCheckParams& params_;
+  std::vector<std::uint8_t> skip_;  // duplicates and triangles without a plane: never tested
+  MeshCheck& r_;
+  std::int64_t budget_ = 0, spent_ = 0;
+  std::vector<Box3> boxes_;
+  std::vector<Range> ranges_;
+  std::vector<std::pair<std::uint64_t, int>> entries_;
+  std::vector<std::uint8_t> large_;
+};
+
+// The grid: cells about a typical triangle's size, so that a cell holds a few triangles. A
+// triangle is put in each of its cells unless it spans more than `most` of them (a big face
+// beside fine detail), then it is tested against every box it overlaps instead; `most` is
+// lowered until the cells' entries are at most 8 per triangle, which bounds their memory
+// whatever the triangles' sizes. Which pairs are tested, and so the result, does not depend on
+// `most`: every pair of overlapping boxes is tested once either way.
+void PairSearch::grid(const Box3& box) {
+  const std::size_t n = tris_.size();
+  boxes_.assign(n, Box3{});
+  std::vector<double> sizes(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    for (int v : tris_[t]) boxes_[t].expand(verts_[static_cast<std::size_t>(v)]);
+    sizes[t] = max_abs(boxes_[t].hi - boxes_[t].lo);
+  }
+  std::nth_element(sizes.begin(), sizes.begin() + static_cast<std::ptrdiff_t>(n / 2), sizes.end());
   const double extent = max_abs(box.hi - box.lo);
-  double cell = std::max({sizes[sizes.size() / 2], extent / 1024, 1e-300});
+  double cell = std::max({sizes[n / 2], extent / 1024, 1e-300});
   // At most 2^21 cells along an axis, so that a cell index fits 21 bits of a key.
   cell = std::max(cell, extent / double(1 << 20));
   auto index = [&](double x, double lo) {
     const double f = std::floor((x - lo) / cell);
     return static_cast<std::int64_t>(std::clamp(f, 0.0, double((1 << 21) - 1)));
   };
-  struct Range {
-    std::int64_t lo[3], hi[3];
-  };
-  std::vector<Range> ranges(tris.size());
-  std::vector<std::pair<std::uint64_t, int>> entries;
-  std::vector<std::uint8_t> large(tris.size(), 0);
-  for (std::size_t t = 0; t < tris.size(); ++t) {
-    Range& g = ranges[t];
+  ranges_.resize(n);
+  std::vector<std::int64_t> cells(n, 0);
+  for (std::size_t t = 0; t < n; ++t) {
+    Range& g = ranges_[t];
     for (int d = 0; d < 3; ++d) {
-      g.lo[d] = index(boxes[t].lo[d], box.lo[d]);
-      g.hi[d] = index(boxes[t].hi[d], box.lo[d]);
+      g.lo[d] = index(boxes_[t].lo[d], box.lo[d]);
+      g.hi[d] = index(boxes_[t].hi[d], box.lo[d]);
     }
-    if (!(area2(verts, tris[t]) > 0)) continue;  // no plane: nothing to cross
-    // A triangle far larger than the cells (a big face beside fine detail) is tested against
-    // every box it overlaps, not put in each of its cells.
-    if ((g.hi[0] - g.lo[0] + 1) * (g.hi[1] - g.lo[1] + 1) * (g.hi[2] - g.lo[2] + 1) > 64) {
-      large[t] = 1;
+    if (!(area2(verts_, tris_[t]) > 0)) skip_[t] = 1;  // no plane: nothing to cross
+    if (!skip_[t]) cells[t] = (g.hi[0] - g.lo[0] + 1) * (g.hi[1] - g.lo[1] + 1) * (g.hi[2] - g.lo[2] + 1);
+  }
+  std::int64_t most = 64;
+  auto entries_at = [&](std::int64_t m) {
+    std::int64_t sum = 0;
+    for (std::int64_t c : cells) sum += c <= m ? c : 0;
+    return sum;
+  };
+  while (most > 1 && entries_at(most) > 8 * static_cast<std::int64_t>(n) + 1024) most /= 2;
+  large_.assign(n, 0);
+  entries_.reserve(static_cast<std::size_t>(entries_at(most)));
+  for (std::size_t t = 0; t < n; ++t) {
+    if (skip_[t]) continue;
+    if (cells[t] > most) {
+      large_[t] = 1;
       continue;
     }
+    const Range& g = ranges_[t];
     for (std::int64_t x = g.lo[0]; x <= g.hi[0]; ++x)
       for (std::int64_t y = g.lo[1]; y <= g.hi[1]; ++y)
         for (std::int64_t z = g.lo[2]; z <= g.hi[2]; ++z)
-          entries.push_back({static_cast<std::uint64_t>((x << 42) | (y << 21) | z), static_cast<int>(t)});
+          entries_.push_back({static_cast<std::uint64_t>((x << 42) | (y << 21) | z), static_cast<int>(t)});
   }
-  std::sort(entries.begin(), entries.end());
-  auto corners = [&](int t) {
-    const auto& tri = tris[static_cast<std::size_t>(t)];
-    return std::array<Vec3, 3>{verts[static_cast<std::size_t>(tri[0])], verts[static_cast<std::size_t>(tri[1])],
-                               verts[static_cast<std::size_t>(tri[2])]};
-  };
-  auto test = [&](int s, int t) {
-    int shared = 0;
-    for (int u : tris[static_cast<std::size_t>(s)])
-      for (int v : tris[static_cast<std::size_t>(t)]) shared += u == v;
-    if (shared >= 2) return;  // neighbours across an edge meet along it
-    if (triangles_intersect(corners(s), corners(t), params.intersection_tolerance))
-      note(r.self_intersections, std::min(s, t), std::max(s, t));
-  };
-  for (std::size_t i = 0; i < entries.size();) {
+  std::sort(entries_.begin(), entries_.end());
+}
+
+// Pairs that share a cell, each tested in the first cell (lowest x, then y, then z index) of
+// the boxes' common cells.
+void PairSearch::cell_pairs() {
+  for (std::size_t i = 0; i < entries_.size();) {
     std::size_t j = i;
-    while (j < entries.size() && entries[j].first == entries[i].first) ++j;
-    const std::uint64_t key = entries[i].first;
+    while (j < entries_.size() && entries_[j].first == entries_[i].first) ++j;
+    const std::uint64_t key = entries_[i].first;
     const std::int64_t c[3] = {static_cast<std::int64_t>(key >> 42), static_cast<std::int64_t>((key >> 21) & 0x1FFFFF),
                                static_cast<std::int64_t>(key & 0x1FFFFF)};
     for (std::size_t p = i; p < j; ++p)
       for (std::size_t q = p + 1; q < j; ++q) {
-        const int s = entries[p].second, t = entries[q].second;
-        const Range &gs = ranges[static_cast<std::size_t>(s)], &gt = ranges[static_cast<std::size_t>(t)];
-        bool first_cell = true, apart = false;
-        for (int d = 0; d < 3; ++d) {
-          first_cell = first_cell && std::max(gs.lo[d], gt.lo[d]) == c[d];
-          apart = apart || boxes[static_cast<std::size_t>(s)].hi[d] < boxes[static_cast<std::size_t>(t)].lo[d] ||
-                  boxes[static_cast<std::size_t>(t)].hi[d] < boxes[static_cast<std::size_t>(s)].lo[d];
-        }
-        if (first_cell && !apart) test(s, t);
+        if (!spend()) return;
+        const int s = entries_[p].second, t = entries_[q].second;
+        const Range &gs = ranges_[static_cast<std::size_t>(s)], &gt = ranges_[static_cast<std::size_t>(t)];
+        bool first_cell = true;
+        for (int d = 0; d < 3; ++d) first_cell = first_cell && std::max(gs.lo[d], gt.lo[d]) == c[d];
+        if (first_cell && !apart(static_cast<std::size_t>(s), static_cast<std::size_t>(t))) test(s, t);
       }
     i = j;
   }
-  for (std::size_t s = 0; s < tris.size(); ++s) {
-    if (!large[s]) continue;
-    for (std::size_t t = 0; t < tris.size(); ++t) {
-      if (t == s || (large[t] && t < s) || !(area2(verts, tris[t]) > 0)) continue;
-      bool apart = false;
-      for (int d = 0; d < 3; ++d) apart = apart || boxes[s].hi[d] < boxes[t].lo[d] || boxes[t].hi[d] < boxes[s].lo[d];
-      if (!apart) test(static_cast<int>(s), static_cast<int>(t));
+}
+
+// A large triangle against every other whose box it overlaps.
+void PairSearch::large_pairs() {
+  for (std::size_t s = 0; s < tris_.size(); ++s) {
+    if (!large_[s]) continue;
+    for (std::size_t t = 0; t < tris_.size(); ++t) {
+      if (t == s || (large_[t] && t < s) || skip_[t]) continue;
+      if (!spend()) return;
+      if (!apart(s, t)) test(static_cast<int>(s), static_cast<int>(t));
     }
   }
+}
+
+void PairSearch::run(const Box3& box) {
+  grid(box);
+  cell_pairs();
+  large_pairs();
+}
+
+}  // namespace
+
+MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params) {
+  MeshCheck r;
+  const auto& tris = mesh.triangles();
+  check_edges(tris, r);
+  std::vector<std::uint8_t> repeat = mark_duplicates(tris, r.duplicate_triangles);
+  if (!params.self_intersections || tris.size() < 2) return r;
+  PairSearch(mesh, params, std::move(repeat), r).run(mesh.bounds());
   return r;
+}
+
+std::uint64_t sliced_mesh_bytes(const SlicedMesh& mesh) noexcept {
+  return sizeof(Vec3) * mesh.vertex_count() + (sizeof(SlicedMesh::Triangle) + 2 * sizeof(int)) * mesh.triangle_count();
 }
 
 std::size_t orient_consistently(const std::vector<Vec3>& vertices, std::vector<SlicedMesh::Triangle>& triangles) {

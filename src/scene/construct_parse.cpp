@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "scene/construction_probe.h"
 #include "scene/scene_parse.h"
 #include "trivox/construct/coons.h"
 #include "trivox/construct/extrude.h"
@@ -104,6 +105,25 @@ std::vector<TensorSpline> parse_shell_faces(const JsonView& node, SceneContext& 
   return out;
 }
 
+// A Coons constructor's six faces: "u0" to "w1", or "faces", a closed shell's six surfaces in
+// any order, arranged as coons() expects.
+std::array<TensorSpline, 6> coons_faces(const JsonView& c, SceneContext& ctx) {
+  if (const auto all = c.find("faces")) {
+    for (int i = 0; i < 6; ++i)
+      if (c.find(coons_face_name(i)))
+        c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
+    const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
+    try {
+      return arrange_cube_faces(shell);
+    } catch (const ModelError& e) {
+      c.fail(e.what());
+    }
+  }
+  std::vector<TensorSpline> f;
+  for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
+  return {f[0], f[1], f[2], f[3], f[4], f[5]};
+}
+
 // Appends "file NAME SHA-256" for every model file `node` names, in document order.
 void add_model_files(const JsonView& node, SceneContext& ctx, std::string& text) {
   if (node.is_object()) {
@@ -129,14 +149,20 @@ std::string cache_key(std::string_view kind, const JsonView& c, SceneContext& ct
 }
 
 // Builds the constructor's volume, its inputs already read from `node`, or takes it from the
-// scene's construction cache when that holds it (and stores it there once built).
-template <class Build>
-Constructed run(std::string_view kind, const JsonView& node, SceneContext& ctx, Build build) {
+// scene's construction cache when that holds it and it agrees with its inputs at the points
+// `probe` checks (construction_probe.h; else the entry is built again with a warning), and
+// stores it there once built.
+template <class Build, class Probe>
+Constructed run(std::string_view kind, const JsonView& node, SceneContext& ctx, Build build, Probe probe) {
   ConstructionCache* cache = ctx.construction_cache();
   std::string key;
   if (cache != nullptr && !cache->program_identity().empty()) {
     key = cache_key(kind, node, ctx, cache->program_identity());
-    if (std::optional<Constructed> hit = cache->load(key)) return std::move(*hit);
+    if (std::optional<Constructed> hit = cache->load(key)) {
+      const std::optional<std::string> problem = probe(*hit);
+      if (!problem) return std::move(*hit);
+      cache->reject(key, *problem);
+    }
   }
   Constructed built = [&] {
     try {
@@ -157,13 +183,20 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     ExtrudeParams p;
     p.vector_mm = nonzero_vec3(c.at("vector_mm"));
     p.check = check;
-    return run(kind, c, ctx, [&] { return extrude(s, p); });
+    const std::array<FaceProbe, 2> faces{FaceProbe{&s, 2, false, {0, 1}, {}},
+                                         FaceProbe{&s, 2, true, {0, 1}, p.vector_mm}};
+    return run(
+        kind, c, ctx, [&] { return extrude(s, p); },
+        [&](const Constructed& hit) { return probe_faces(hit.volume, faces); });
   }
   if (kind == "ruled") {
     expect_keys(c, {"from", "to"});
     const TensorSpline a = parse_curve_or_surface(c.at("from"), ctx, 2);
     const TensorSpline b = parse_curve_or_surface(c.at("to"), ctx, 2);
-    return run(kind, c, ctx, [&] { return ruled(a, b, RuledParams{check}); });
+    const std::array<FaceProbe, 2> faces{FaceProbe{&a, 2, false, {0, 1}, {}}, FaceProbe{&b, 2, true, {0, 1}, {}}};
+    return run(
+        kind, c, ctx, [&] { return ruled(a, b, RuledParams{check}); },
+        [&](const Constructed& hit) { return probe_faces(hit.volume, faces); });
   }
   if (kind == "revolve") {
     expect_keys(c, {"profile", "axis_point_mm", "axis_dir", "angle_deg", "angle_param"});
@@ -183,7 +216,9 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
       p.angle_direction = name[0] - 'u';
     }
     p.check = check;
-    return run(kind, c, ctx, [&] { return revolve(s, p); });
+    return run(
+        kind, c, ctx, [&] { return revolve(s, p); },
+        [&](const Constructed& hit) { return probe_revolve(hit.volume, s, p); });
   }
   if (kind == "sweep") {
     expect_keys(c, {"section", "path", "twist_deg", "stations", "initial_x"});
@@ -194,7 +229,9 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
     if (const auto v = c.find("stations")) p.stations = v->integer_in(4, 4096);
     if (const auto v = c.find("initial_x")) p.initial_x = nonzero_vec3(*v);
     p.check = check;
-    return run(kind, c, ctx, [&] { return sweep(section, path, p); });
+    return run(
+        kind, c, ctx, [&] { return sweep(section, path, p); },
+        [&](const Constructed& hit) { return probe_sweep(hit, section, path); });
   }
   if (kind == "coons") {
     expect_keys(c, {"u0", "u1", "v0", "v1", "w0", "w1", "faces", "untangle"});
@@ -215,17 +252,10 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
       report.constructor = "coons";
       return Constructed{std::move(volume), std::move(report)};
     };
-    if (const auto all = c.find("faces")) {
-      for (int i = 0; i < 6; ++i)
-        if (c.find(coons_face_name(i)))
-          c.at(coons_face_name(i)).fail("give the faces either as \"faces\" or as \"u0\" to \"w1\", not both");
-      const std::vector<TensorSpline> shell = parse_shell_faces(*all, ctx);
-      return run(kind, c, ctx, [&] { return make(arrange_cube_faces(shell)); });
-    }
-    std::vector<TensorSpline> f;
-    for (int i = 0; i < 6; ++i) f.push_back(parse_curve_or_surface(c.at(coons_face_name(i)), ctx, 2));
-    const std::array<TensorSpline, 6> faces{f[0], f[1], f[2], f[3], f[4], f[5]};
-    return run(kind, c, ctx, [&] { return make(faces); });
+    const std::array<TensorSpline, 6> faces = coons_faces(c, ctx);
+    return run(
+        kind, c, ctx, [&] { return make(faces); },
+        [&](const Constructed& hit) { return probe_coons(hit.volume, faces); });
   }
   expect_keys(c, {kSurface, "thickness_mm", "side", "knots_per_span"});
   const TensorSpline s = parse_curve_or_surface(c.at(kSurface), ctx, 2);
@@ -246,7 +276,8 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   }
   if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   p.check = check;
-  return run(kind, c, ctx, [&] { return thick_shell(s, p); });
+  return run(
+      kind, c, ctx, [&] { return thick_shell(s, p); }, [&](const Constructed& hit) { return probe_shell(hit, s, p); });
 }
 
 // "patches": rows of surface indices of one file, joined into one surface (construct/join.h).

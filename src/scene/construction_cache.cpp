@@ -7,15 +7,16 @@
 
 #include <bit>
 #include <cstdint>
-#include <fstream>
-#include <iterator>
 #include <limits>
+#include <new>
 #include <system_error>
 
 #include <fmt/format.h>
 
 #include "trivox/error.h"
+#include "trivox/io/detail/regular_file.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/limits.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/version.h"
 
@@ -190,6 +191,15 @@ Constructed constructed_of(std::string_view payload) {
   return built;
 }
 
+// The largest entry a volume within kMaxControlPoints can have: its points and weights, its
+// knots (at most control points + order per direction), the report, the header. A larger file
+// is refused before it is read (a sparse file of 100 GB would otherwise be allocated whole).
+std::uint64_t max_entry_bytes() {
+  constexpr std::uint64_t points = static_cast<std::uint64_t>(kMaxControlPoints);
+  constexpr std::uint64_t numbers = 4 * points + 3 * (points + static_cast<std::uint64_t>(kMaxOrder) + 1);
+  return kHeaderBytes + 8 * numbers + (1 << 16);
+}
+
 bool is_key(std::string_view key) {
   if (key.size() != kKeyBytes) return false;
   for (char c : key)
@@ -254,7 +264,7 @@ std::optional<Constructed> decode_construction_entry(std::string_view bytes, con
     return built;
   } catch (const Damaged& d) {
     return fail(d.what);
-  } catch (const ModelError& e) {
+  } catch (const Error& e) {
     return fail(fmt::format("its volume is not valid: {}", e.what()));
   }
 }
@@ -270,6 +280,9 @@ std::optional<std::string> this_program_sha256() {
 }
 
 ConstructionCache::ConstructionCache(std::filesystem::path dir) : dir_(std::move(dir)) {}
+
+ConstructionCache::ConstructionCache(std::filesystem::path dir, std::string program_identity)
+    : dir_(std::move(dir)), identity_(std::move(program_identity)) {}
 
 const std::string& ConstructionCache::program_identity() {
   if (!identity_) {
@@ -287,26 +300,39 @@ std::filesystem::path ConstructionCache::entry_path(const std::string& key) cons
 std::optional<Constructed> ConstructionCache::load(const std::string& key) {
   if (program_identity().empty()) return std::nullopt;
   const std::filesystem::path path = entry_path(key);
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return std::nullopt;
-  std::ifstream in(path, std::ios::binary);
-  std::string bytes;
-  if (in) bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-  if (!in || in.bad()) {
-    warnings_.push_back(fmt::format("construction cache: cannot read {}; the volume is built again", path.string()));
-    return std::nullopt;
-  }
+  if (not_a_regular_file(path) == "no file") return std::nullopt;
+  // Whatever is wrong with an entry (not a regular file, too large, damaged, a volume that
+  // cannot be held) is a warning and a rebuild, never a failed scene: the folder is shared and
+  // copied, so anything may stand there.
   std::string problem;
-  auto built = decode_construction_entry(bytes, key, &problem);
-  if (!built) {
+  try {
+    const std::string bytes = read_regular_file(path, max_entry_bytes());
+    if (auto built = decode_construction_entry(bytes, key, &problem)) {
+      ++hits_;
+      return built;
+    }
+  } catch (const IoError& e) {
     warnings_.push_back(
-        fmt::format("construction cache: {} is damaged ({}); the volume is built again and the entry "
-                    "replaced",
-                    path.string(), problem));
+        fmt::format("construction cache: cannot use {}: {}; the volume is built again", path.string(), e.what()));
     return std::nullopt;
+  } catch (const std::bad_alloc&) {
+    problem = "its volume does not fit in memory";
+  } catch (const Error& e) {
+    problem = e.what();
   }
-  ++hits_;
-  return built;
+  warnings_.push_back(
+      fmt::format("construction cache: {} is damaged ({}); the volume is built again and the entry "
+                  "replaced",
+                  path.string(), problem));
+  return std::nullopt;
+}
+
+void ConstructionCache::reject(const std::string& key, const std::string& why) {
+  --hits_;
+  warnings_.push_back(
+      fmt::format("construction cache: {} does not agree with the inputs that build it ({}); the volume is built "
+                  "again and the entry replaced",
+                  entry_path(key).string(), why));
 }
 
 void ConstructionCache::store(const std::string& key, const Constructed& built) {

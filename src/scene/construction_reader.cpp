@@ -2,13 +2,15 @@
 // geometry, on its own.
 #include "trivox/scene/construction.h"
 
-#include <fstream>
-#include <iterator>
+#include <cstdint>
+#include <limits>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
+#include "trivox/io/detail/regular_file.h"
 
 namespace trivox {
 
@@ -24,10 +26,13 @@ Constructed read_construction(const std::filesystem::path& path) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read the construction file {}: it is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("cannot open the construction file {}", path.string()));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(fmt::format("cannot read the construction file {}", path.string()));
+  // A device or a FIFO is refused by what it is (io/detail/regular_file.h), never read.
+  std::string text;
+  try {
+    text = read_regular_file(path, std::numeric_limits<std::uint64_t>::max());
+  } catch (const IoError& e) {
+    throw IoError(fmt::format("cannot read the construction file: {}", e.what()));
+  }
   return parse_construction(text, path);
 }
 

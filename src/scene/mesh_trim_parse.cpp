@@ -1,7 +1,10 @@
 // Mesh trims (docs/SCENE.md, "Mesh trims"): a shell {"mesh": F, "placement", "inside_rule"}
 // read from a triangle mesh file, placed, and checked before the even-odd rule decides by it.
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -57,15 +60,44 @@ std::string mesh_report(const TriangleMeshFile& f, const MeshCheck& c, double to
         fmt::format("not consistently oriented: {} edges whose two triangles run along them the same "
                     "way, a flipped triangle on one side (e.g. {})",
                     c.misoriented_edges.count, describe_triangle(f, c.misoriented_edges.triangle)));
-  if (c.self_intersections.count > 0)
+  if (c.duplicate_triangles.count > 0)
+    parts.push_back(fmt::format("doubled: {} triangles repeat the corners of an earlier one (e.g. {}, a repeat of {})",
+                                c.duplicate_triangles.count, describe_triangle(f, c.duplicate_triangles.triangle),
+                                describe_triangle(f, c.duplicate_triangles.other)));
+  if (c.intersections_cut_short && c.self_intersections.count == 0)
     parts.push_back(
-        fmt::format("self-intersecting: {} pairs of triangles cross or overlap by more than {:.4g} mm, "
-                    "the printer's pixel (e.g. {} and {})",
-                    c.self_intersections.count, tolerance_mm, describe_triangle(f, c.self_intersections.triangle),
-                    describe_triangle(f, c.self_intersections.other)));
+        "too crowded to check for self-intersections in bounded time: more pairs of triangles lie close together "
+        "than the check looks at (layers of coincident faces, or a fan of many slivers)");
+  if (c.self_intersections.count > 0)
+    parts.push_back(fmt::format(
+        "self-intersecting: {}{} pairs of triangles cross or overlap by more than {:.4g} mm, "
+        "the printer's pixel (e.g. {} and {})",
+        c.intersections_cut_short ? "at least " : "", c.self_intersections.count, tolerance_mm,
+        describe_triangle(f, c.self_intersections.triangle), describe_triangle(f, c.self_intersections.other)));
   std::string all;
   for (std::size_t i = 0; i < parts.size(); ++i) all += fmt::format("{}{}", i == 0 ? "" : "; ", parts[i]);
   return all;
+}
+
+// The placed mesh's coordinates overflow, or lie so far out that doubles there are spaced more
+// than a thousandth of a pixel apart (the rule refuse_without_interior applies to volumes):
+// its triangles would collapse or cross by rounding, so the mesh is refused as what it is,
+// not later as self-intersecting.
+void refuse_imprecise(const std::vector<Vec3>& vertices, const JsonView& file, double pixel_mm) {
+  double far = 0;
+  for (const Vec3& v : vertices) {
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      file.fail(fmt::format("the mesh \"{}\" overflows where it is placed: a corner comes to ({}, {}, {}) mm",
+                            file.string(), v.x, v.y, v.z));
+    far = std::max(far, max_abs(v));
+  }
+  const double spacing = far * std::numeric_limits<double>::epsilon();
+  if (!(spacing <= 1e-3 * pixel_mm))
+    file.fail(
+        fmt::format("the mesh \"{}\" lies {:.4g} mm from the origin where it is placed, where doubles are "
+                    "{:.4g} mm apart, more than a thousandth of the pixel ({:.4g} mm): its coordinates lose "
+                    "the precision its triangles need",
+                    file.string(), far, spacing, pixel_mm));
 }
 
 }  // namespace
@@ -87,12 +119,16 @@ std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneCon
   const TriangleMeshFile& f = ctx.triangle_mesh(file);
   std::vector<Vec3> vertices = f.vertices;
   if (const auto p = node.find("placement")) vertices = parse_and_apply_placement(*p, std::move(vertices));
+  refuse_imprecise(vertices, file, ctx.pixel_mm());
   auto mesh = std::make_shared<SlicedMesh>(std::move(vertices), f.triangles);
   if (rule == InsideRule::kEvenOdd) {
     // The even-odd rule needs a closed mesh; orientation and intersections decide nothing by
     // it, but a mesh with flipped triangles or crossing parts is not the solid it claims to
     // be (overlapping parts would cancel), so they are refused too.
-    const MeshCheck check = check_mesh(*mesh, {ctx.pixel_mm(), true});
+    MeshCheckParams params;
+    params.intersection_tolerance = ctx.pixel_mm();
+    params.stop = ctx.stop();
+    const MeshCheck check = check_mesh(*mesh, params);
     if (!check.passed())
       file.fail(
           fmt::format("the mesh \"{}\" ({}, {} triangles) is {}. Give the shell \"inside_rule\": "

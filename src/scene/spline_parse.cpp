@@ -3,31 +3,23 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
 #include "scene/scene_parse.h"
 #include "trivox/error.h"
+#include "trivox/io/detail/regular_file.h"
 #include "trivox/io/detail/sha256.h"
 
 namespace trivox::detail {
 
 const Model& SceneContext::model(const JsonView& file_field) {
   const std::string& name = file_field.string();
-  if (name.empty()) file_field.fail("the file name is empty");
-  std::filesystem::path path(name);
-  if (path.is_relative()) path = base_dir_ / path;
-  path = path.lexically_normal();
+  const std::filesystem::path path = existing_file(file_field, "model file");
   const std::string key = path.string();
   if (const auto it = models_.find(key); it != models_.end()) return it->second;
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    file_field.fail(fmt::format("cannot read the model file \"{}\": {} is a directory, not a file", name, key));
-  if (!std::filesystem::is_regular_file(path, ec))
-    file_field.fail(
-        fmt::format("cannot read the model file \"{}\": there is no file {} (names "
-                    "are relative to the scene file's folder)",
-                    name, key));
   try {
     // Hashed before it is parsed: a file changed in between makes the job refuse to resume
     // rather than mix two versions.
@@ -189,14 +181,19 @@ std::filesystem::path SceneContext::existing_file(const JsonView& file_field, st
   std::filesystem::path path(name);
   if (path.is_relative()) path = base_dir_ / path;
   path = path.lexically_normal();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    file_field.fail(fmt::format("cannot read the {} \"{}\": {} is a directory, not a file", what, name, path.string()));
-  if (!std::filesystem::is_regular_file(path, ec))
+  // One check of the file's kind (io/detail/regular_file.h): a device or a FIFO is named as
+  // what it is, never read, nor called missing.
+  const std::optional<std::string> problem = not_a_regular_file(path);
+  if (problem == "no file")
     file_field.fail(
         fmt::format("cannot read the {} \"{}\": there is no file {} (names are relative to the "
                     "scene file's folder)",
                     what, name, path.string()));
+  if (problem == "a directory")
+    file_field.fail(fmt::format("cannot read the {} \"{}\": {} is a directory, not a file", what, name, path.string()));
+  if (problem)
+    file_field.fail(
+        fmt::format("cannot read the {} \"{}\": {} is {}, not a regular file", what, name, path.string(), *problem));
   return path;
 }
 
@@ -288,6 +285,12 @@ Affine parse_placement(const JsonView& node) {
   }
   const double det = f.a.determinant();
   const double size = max_abs(f.a.column(0)) + max_abs(f.a.column(1)) + max_abs(f.a.column(2));
+  // Said before the test of flatness, which an infinite determinant would fail as "singular".
+  if (!std::isfinite(det))
+    node.fail(
+        fmt::format("the placement overflows: its determinant is {} (a scale or matrix entries beyond what a "
+                    "double holds)",
+                    det));
   if (!(std::abs(det) > 1e-12 * size * size * size))
     node.fail(
         fmt::format("the placement is singular (determinant {}): it would flatten the "

@@ -6,6 +6,10 @@
 #include <tuple>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "trivox/error.h"
+
 namespace trivox {
 
 std::string_view to_string(JacobianClass c) noexcept {
@@ -35,7 +39,15 @@ std::vector<double> sample_dets(const Volume& v, int n) {
         Vec3 p;
         Mat3 J;
         v.evaluate_jacobian(uvw, p, J);
-        dets.push_back(J.determinant());
+        const double det = J.determinant();
+        // An infinite or undefined det J is no shape of the volume but numbers beyond what a
+        // double holds: said as such, not classified as a zero (a degenerate volume).
+        if (!std::isfinite(det))
+          throw ModelError(fmt::format(
+              "the volume's numbers overflow: det J is {} at (u, v, w) = ({:.6g}, {:.6g}, {:.6g}) (control points "
+              "too far out, or knot spans too short, for double precision)",
+              det, uvw.x, uvw.y, uvw.z));
+        dets.push_back(det);
       }
   return dets;
 }

@@ -26,28 +26,8 @@ namespace {
 
 using nlohmann::ordered_json;
 using test::expect_scene_error;
-
-ordered_json scene_with(const ordered_json& geometry) {
-  return {{"units", "mm"},
-          {"printer", "j750-hq"},
-          {"materials", {{{"name", "A"}, {"rgba", {0, 0, 0, 255}}}}},
-          {"cells",
-           {{{"name", "c"}, {"geometry", geometry}, {"material", {{"kind", "constant"}, {"fractions", {{"A", 1}}}}}}}}};
-}
-
-// The JSON of a curve or surface, inline.
-ordered_json inline_spline(const TensorSpline& s) {
-  ordered_json orders = ordered_json::array(), knots = ordered_json::array(), points = ordered_json::array();
-  for (int d = 0; d < s.param_dim(); ++d) {
-    orders.push_back(s.knots(d).order());
-    knots.push_back(std::vector<double>(s.knots(d).knots().begin(), s.knots(d).knots().end()));
-  }
-  for (int p = 0; p < s.total_ctrl(); ++p)
-    points.push_back({s.points()[3 * p], s.points()[3 * p + 1], s.points()[3 * p + 2]});
-  ordered_json j = {{"orders", orders}, {"knots", knots}, {"points", points}};
-  if (s.is_rational()) j["weights"] = std::vector<double>(s.weights().begin(), s.weights().end());
-  return j;
-}
+using test::inline_spline;
+using test::scene_with;
 
 Volume read_one(const ordered_json& geometry) {
   const Scene scene = parse_scene(scene_with(geometry).dump(), std::filesystem::temp_directory_path() / "scene.json");
@@ -97,25 +77,7 @@ TEST(SceneConstruct, EachConstructorBuildsWhatTheLibraryBuilds) {
   expect_same(read_one({{"shell", {{"surface", inline_spline(kPlate)}, {"thickness_mm", 0.5}, {"side", "centred"}}}}),
               thick_shell(kPlate, shp).volume);
   // Coons from the faces of a box.
-  const auto plate = [](auto f) { return inline_spline(test::bilinear_plate(f)); };
-  const ordered_json faces = {{"u0", plate([](double v, double w) {
-                                 return Vec3{0, 2 * v, 3 * w};
-                               })},
-                              {"u1", plate([](double v, double w) {
-                                 return Vec3{1, 2 * v, 3 * w};
-                               })},
-                              {"v0", plate([](double u, double w) {
-                                 return Vec3{u, 0, 3 * w};
-                               })},
-                              {"v1", plate([](double u, double w) {
-                                 return Vec3{u, 2, 3 * w};
-                               })},
-                              {"w0", plate([](double u, double v) {
-                                 return Vec3{u, 2 * v, 0};
-                               })},
-                              {"w1", plate([](double u, double v) {
-                                 return Vec3{u, 2 * v, 3};
-                               })}};
+  const ordered_json faces = test::coons_box_faces();
   const Volume box = read_one({{"coons", faces}});
   EXPECT_LE(norm(box.evaluate({0.25, 0.5, 0.75}) - Vec3{0.25, 1, 2.25}), 1e-14);
 }

@@ -102,5 +102,25 @@ TEST_F(SceneMeshTrim, KeysAndPlacesAMeshMayNotHave) {
                "neither a binary STL");
 }
 
+// A part exported twice (every triangle doubled) is refused as doubled, with an example.
+TEST_F(SceneMeshTrim, AMeshExportedTwiceIsRefusedAsDoubled) {
+  test::TestMesh m = test::box_mesh({0, 0, 0}, {1, 1, 1});
+  const auto once = m.triangles;
+  m.triangles.insert(m.triangles.end(), once.begin(), once.end());
+  write_stl("twice.stl", m);
+  expect_error(R"({"side": "inside", "shell": {"mesh": "twice.stl"}})", "/cells/0/trim/0/shell/mesh",
+               "doubled: 12 triangles repeat the corners of an earlier one");
+}
+
+// A mesh placed 1e300 mm away loses the precision its triangles need, and is refused as such,
+// not as self-intersecting; a placement that overflows is refused as overflowing, not singular.
+TEST_F(SceneMeshTrim, AMeshPlacedWhereDoublesLosePrecisionIsRefusedAsSuch) {
+  write_stl("box.stl", test::box_mesh({0, 0, 0}, {1, 1, 1}));
+  expect_error(R"({"side": "inside", "shell": {"mesh": "box.stl", "placement": {"translate": [1e300, 0, 0]}}})",
+               "/cells/0/trim/0/shell/mesh", "lose the precision its triangles need");
+  expect_error(R"({"side": "inside", "shell": {"mesh": "box.stl", "placement": {"scale": 1e300}}})",
+               "/cells/0/trim/0/shell/placement", "the placement overflows");
+}
+
 }  // namespace
 }  // namespace trivox

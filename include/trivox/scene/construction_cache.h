@@ -11,7 +11,11 @@
 // An entry holds the volume's spline and its construction report exactly (every double as its
 // 8 bytes) behind a header that names the key and the SHA-256 of the rest. An entry that is
 // missing or of other inputs is built again; one that is damaged (truncated, altered, of
-// another key) is built again with a warning, never used; entries are written atomically
+// another key), not a regular file (a directory, a FIFO, a device, a link to one) or larger
+// than any volume's entry can be, is built again with a warning, never used; the scene reader
+// also checks a loaded volume against its inputs at a few points (its faces against the
+// surfaces that build them) and builds again, with a warning, one that disagrees, as an entry
+// replaced with its digest recomputed would; entries are written atomically
 // (output/atomic_file.h), so two processes storing the same volume at once leave one whole
 // file. Failing to read or write the cache never fails the reading of the scene: a warning.
 #pragma once
@@ -30,6 +34,10 @@ class ConstructionCache {
  public:
   // `dir`: the cache's folder, created when the first entry is stored.
   explicit ConstructionCache(std::filesystem::path dir);
+  // A cache whose program identity is given rather than computed from the executable (""
+  // turns the cache off): for the fuzzer and tests, which would otherwise hash their own
+  // program once per cache.
+  ConstructionCache(std::filesystem::path dir, std::string program_identity);
 
   const std::filesystem::path& dir() const noexcept { return dir_; }
 
@@ -39,6 +47,10 @@ class ConstructionCache {
   std::optional<Constructed> load(const std::string& key);
   // Stores `built` under `key`, replacing a damaged entry; a failure is a warning.
   void store(const std::string& key, const Constructed& built);
+  // Takes back the volume load() returned for `key`: its caller found that it does not agree
+  // with the inputs that build it (`why`, a warning); the volume is then built again and
+  // stored, replacing the entry. Not counted as a hit.
+  void reject(const std::string& key, const std::string& why);
 
   // What the keys include beside the construction: the program's identity ("" when it cannot
   // be identified: the cache is then not used). Computed once, on first use.

@@ -29,6 +29,9 @@ struct JacobianReport {
   double min_det = 0, max_det = 0;
 };
 
+// Throws ModelError (the volume's numbers overflow) when det J at a sample is infinite or NaN:
+// coordinates or derivatives beyond double range are no orientation, and classifying them as
+// zeros would call the volume degenerate.
 JacobianReport check_jacobian(const Volume& v, const JacobianCheckParams& params = {});
 
 // Where a folded volume folds, from the samples of check_jacobian: the samples whose det J

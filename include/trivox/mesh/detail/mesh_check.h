@@ -13,12 +13,24 @@
 //  * not self-intersecting at the scale of a pixel: no two triangles that share no edge cross
 //    along a segment longer than a tolerance (a pixel), nor overlap in their common plane by
 //    a width more than it. Triangles that touch, and nicks shorter than the tolerance, pass.
+//  * no duplicates: no triangle has the same three corners as another (in any order): a part
+//    exported twice, a face repeated. Each repeat is counted, and left out of the
+//    intersection test (every copy would overlap every other).
 // Each defect comes with a count and an example: the lowest-numbered triangle involved (and
-// for an intersection, the lowest-numbered triangle it crosses), so the report is the same
-// every run.
+// for an intersection, the lowest-numbered triangle it crosses; for a duplicate, the earlier
+// triangle it repeats), so the report is the same every run.
+//
+// Time and memory are bounded: the intersection test looks at the pairs of triangles whose
+// boxes share a cell of a grid sized by a typical triangle, at most 8 cell entries per
+// triangle, and at most `max_pair_tests` pairs; a mesh that needs more (layers of coincident
+// faces, a fan of many slivers around one point) is cut short, which the result says, and the
+// stop flag is read while it runs.
 #pragma once
 
+#include <array>
+#include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "trivox/mesh/sliced_mesh.h"
@@ -36,6 +48,11 @@ struct MeshCheckParams {
   double intersection_tolerance = 0;
   // Whether to look for intersections at all (the slowest check).
   bool self_intersections = true;
+  // Pairs of nearby triangles the intersection test may look at before it stops (the result
+  // is then cut short); 0: 256 per triangle, at least 2^28 (some seconds to a minute).
+  std::int64_t max_pair_tests = 0;
+  // Raised by the caller to stop the check: it then throws CancelledError. May be null.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct MeshCheck {
@@ -43,9 +60,17 @@ struct MeshCheck {
   MeshDefect nonmanifold_edges;
   MeshDefect misoriented_edges;
   MeshDefect self_intersections;
+  MeshDefect duplicate_triangles;  // count: triangles that repeat an earlier one
+  // The intersection test spent its budget of pairs (MeshCheckParams::max_pair_tests) before
+  // it looked at all of them: self_intersections counts those found so far, and a mesh cut
+  // short does not pass, whatever that count.
+  bool intersections_cut_short = false;
 
   bool closed() const noexcept { return open_edges.count == 0 && nonmanifold_edges.count == 0; }
-  bool passed() const noexcept { return closed() && misoriented_edges.count == 0 && self_intersections.count == 0; }
+  bool passed() const noexcept {
+    return closed() && misoriented_edges.count == 0 && self_intersections.count == 0 &&
+           duplicate_triangles.count == 0 && !intersections_cut_short;
+  }
 };
 
 MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params);
@@ -55,6 +80,10 @@ MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params);
 // no edge; shared corners, given as equal points, are not an intersection by themselves).
 // Exposed for tests.
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b, double tolerance);
+
+// Bytes `mesh` holds while a job runs: its vertices, its triangles and their height buckets
+// (about two bucket entries a triangle). What a job's memory estimate counts for a mesh trim.
+std::uint64_t sliced_mesh_bytes(const SlicedMesh& mesh) noexcept;
 
 // Orientation repair: flips triangles so that every edge of exactly two triangles is run along
 // in opposite directions, component by component (triangles joined through such edges). In
