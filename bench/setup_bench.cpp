@@ -26,8 +26,8 @@
 #include "bench_support.h"
 #include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
 #include "trivox/slice/slicer.h"
 
 using namespace trivox;

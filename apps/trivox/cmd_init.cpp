@@ -17,7 +17,7 @@
 #include "trivox/printer/printer_profile.h"
 #include "trivox/scene/scene.h"
 #include "trivox/scene/starter_scene.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox::cli {
 

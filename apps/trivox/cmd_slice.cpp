@@ -23,11 +23,11 @@
 #include "trivox/output/layer_writer.h"
 #include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
-#include "trivox/slice/job_lock.h"
-#include "trivox/slice/manifest.h"
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/job_lock.h"
+#include "trivox/job/manifest.h"
+#include "trivox/job/printed_extent.h"
 
 namespace trivox::cli {
 

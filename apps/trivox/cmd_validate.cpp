@@ -13,7 +13,7 @@
 #include "trivox/error.h"
 #include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job_estimate.h"
 
 namespace trivox::cli {
 

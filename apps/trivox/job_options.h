@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
 #include "trivox/slice/slice_params.h"
 
 namespace CLI {

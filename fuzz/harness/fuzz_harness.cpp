@@ -21,9 +21,9 @@
 #include "trivox/io/model.h"
 #include "trivox/material/expression_material.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
-#include "trivox/slice/job_folder.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/slice/slicer.h"
 
 // The heap's size and its peak, counted by the sanitizer allocator's hooks where there is

@@ -19,9 +19,9 @@
 #include "bindings.h"
 #include "trivox/error.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
-#include "trivox/slice/manifest.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/manifest.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox::python {

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/io/model.h"
 
 namespace trivox::test {

@@ -15,7 +15,7 @@
 #include "cli_run.h"
 #include "cli_small_scene.h"
 #include "trivox/error.h"
-#include "trivox/slice/job_lock.h"
+#include "trivox/job/job_lock.h"
 
 namespace trivox::test {
 namespace {

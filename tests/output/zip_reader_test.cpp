@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "output/zip_writer.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/output/atomic_file.h"
 

@@ -10,7 +10,7 @@
 #include "trivox/error.h"
 #include "trivox/output/display_colours.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox {
 namespace {

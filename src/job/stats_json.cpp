@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "trivox/output/atomic_file.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/job.h"
+#include "trivox/job/printed_extent.h"
 
 namespace trivox {
 

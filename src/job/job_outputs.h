@@ -8,7 +8,7 @@
 
 #include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox::detail {
 

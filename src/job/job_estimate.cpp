@@ -1,4 +1,4 @@
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job_estimate.h"
 
 #include <sys/resource.h>
 #include <sys/statvfs.h>

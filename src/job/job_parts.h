@@ -6,7 +6,7 @@
 #include <filesystem>
 
 #include "trivox/output/layer_writer.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox::detail {
 

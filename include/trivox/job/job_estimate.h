@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox {
 

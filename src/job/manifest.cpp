@@ -1,4 +1,4 @@
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 
 #include <algorithm>
 #include <fstream>

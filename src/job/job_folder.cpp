@@ -1,4 +1,4 @@
-#include "trivox/slice/job_folder.h"
+#include "trivox/job/job_folder.h"
 
 #include <algorithm>
 #include <cstdint>

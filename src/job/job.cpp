@@ -1,4 +1,4 @@
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 #include <algorithm>
 #include <chrono>
@@ -19,8 +19,8 @@
 #include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/parallel.h"
-#include "trivox/slice/job_lock.h"
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/job_lock.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/version.h"
 
 namespace trivox {

@@ -9,7 +9,7 @@
 #include <map>
 #include <string>
 
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox::test {
 

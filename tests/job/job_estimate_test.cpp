@@ -1,5 +1,5 @@
 // Job estimates against the job itself, and the up-front refusals.
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job_estimate.h"
 
 #include <unistd.h>
 
@@ -13,7 +13,7 @@
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/output/detail/vdb_stack.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox {
 namespace {

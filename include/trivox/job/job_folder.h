@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 
 namespace trivox {
 

@@ -21,8 +21,8 @@
 
 #include "trivox/output/png_io.h"
 #include "trivox/scene/construction_cache.h"
-#include "trivox/slice/manifest.h"
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/manifest.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {
