@@ -50,6 +50,11 @@ std::string manifest_file_name(int shard_index, int shard_count) {
   return fmt::format("manifest.shard-{}-of-{}.json", shard_index, shard_count);
 }
 
+std::string stats_file_name(int shard_index, int shard_count) {
+  if (shard_count <= 1) return "stats.json";
+  return fmt::format("stats.shard-{}-of-{}.json", shard_index, shard_count);
+}
+
 bool shard_has_layer(int index, int shard_index, int shard_count) noexcept {
   return shard_count <= 1 || index % shard_count == shard_index - 1;
 }
