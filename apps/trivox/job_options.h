@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "trivox/scene/scene.h"
 #include "trivox/job/job.h"
 #include "trivox/job/job_estimate.h"
+#include "trivox/scene/scene.h"
 #include "trivox/slice/slice_params.h"
 
 namespace CLI {

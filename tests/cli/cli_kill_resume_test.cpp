@@ -26,9 +26,9 @@
 #include "cli/cli_run.h"
 #include "job/job_fixtures.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/manifest.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
-#include "trivox/job/manifest.h"
 
 extern char** environ;
 

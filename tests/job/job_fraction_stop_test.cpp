@@ -12,11 +12,11 @@
 
 #include "job/job_fixtures.h"
 #include "trivox/error.h"
-#include "trivox/material/material_function.h"
-#include "trivox/scene/scene.h"
 #include "trivox/job/job.h"
 #include "trivox/job/job_folder.h"
 #include "trivox/job/manifest.h"
+#include "trivox/material/material_function.h"
+#include "trivox/scene/scene.h"
 
 namespace trivox {
 namespace {

@@ -17,11 +17,11 @@
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/sha256.h"
-#include "trivox/output/atomic_file.h"
-#include "trivox/output/png_io.h"
 #include "trivox/job/job.h"
 #include "trivox/job/job_folder.h"
 #include "trivox/job/manifest.h"
+#include "trivox/output/atomic_file.h"
+#include "trivox/output/png_io.h"
 
 namespace trivox {
 namespace {

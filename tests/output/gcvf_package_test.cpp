@@ -26,9 +26,9 @@
 #include "slice/slice_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job.h"
 #include "trivox/material/detail/constant_material.h"
 #include "trivox/output/png_io.h"
-#include "trivox/job/job.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {

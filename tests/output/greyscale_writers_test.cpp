@@ -22,12 +22,12 @@
 #include "job/job_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/output/detail/gcvf_package.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
 #include "trivox/scene/scene.h"
-#include "trivox/job/job.h"
-#include "trivox/job/job_folder.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {

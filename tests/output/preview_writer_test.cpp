@@ -13,10 +13,10 @@
 #include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
-#include "trivox/output/layer_writer.h"
-#include "trivox/output/png_io.h"
 #include "trivox/job/job.h"
 #include "trivox/job/job_folder.h"
+#include "trivox/output/layer_writer.h"
+#include "trivox/output/png_io.h"
 
 namespace trivox {
 namespace {

@@ -23,8 +23,8 @@
 
 #include "job/job_fixtures.h"
 #include "support/test_support.h"
-#include "trivox/scene/scene.h"
 #include "trivox/job/job.h"
+#include "trivox/scene/scene.h"
 
 namespace trivox {
 namespace {
