@@ -20,7 +20,7 @@
 #include <fmt/format.h>
 
 #include "bench_support.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 #include "trivox/slice/slicer.h"
 
 using namespace trivox;

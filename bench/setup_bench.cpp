@@ -24,10 +24,10 @@
 #include <fmt/format.h>
 
 #include "bench_support.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
 #include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
 #include "trivox/slice/slicer.h"
 
 using namespace trivox;
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
     job.output_dir = scratch;
     const int middle = slicer->layout().num_layers / 2;
     job.first_layer = job.last_layer = middle;
-    estimate_t.push_back(timed([&] { estimate_job(*slicer, job, EstimateParams{1, 0}); }));
+    estimate_t.push_back(timed([&] { estimate_job(*slicer, job, EstimateParams{1}); }));
   }
   std::filesystem::remove_all(scratch);
 

@@ -31,13 +31,6 @@ class InterruptedError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// The job's stack cannot show the object: its bitmap is under 2 pixels along x or y, or no
-// voxel of any layer is inside the object (mapped to kExitEmpty; --allow-empty accepts it).
-class EmptyResultError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 // `trivox verify` found problems, already listed on standard output (mapped to kExitCorrupt).
 class CorruptOutputError : public std::runtime_error {
  public:

@@ -13,11 +13,11 @@
 #include "commands.h"
 #include "job_options.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/printer/printer_profile.h"
 #include "trivox/scene/scene.h"
 #include "trivox/scene/starter_scene.h"
-#include "trivox/slice/job.h"
 
 namespace trivox::cli {
 

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "trivox/slice/job_folder.h"
+#include "trivox/job/job_folder.h"
 
 namespace trivox::cli {
 

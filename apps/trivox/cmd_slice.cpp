@@ -19,15 +19,13 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/printed_extent.h"
+#include "trivox/job/slice_job.h"
 #include "trivox/material/material_function.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
-#include "trivox/slice/job_lock.h"
-#include "trivox/slice/manifest.h"
-#include "trivox/slice/printed_extent.h"
 
 namespace trivox::cli {
 
@@ -85,157 +83,16 @@ class TerminalProgress final : public ProgressSink {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-// Bytes of the files a resumed job already has (they need no new space); 0 without a manifest.
-std::uint64_t bytes_already_written(const JobParams& job) {
-  const auto path = job.output_dir / manifest_file_name(job.shard_index, job.shard_count);
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return 0;
-  std::uint64_t bytes = 0;
-  for (const ManifestFile& f : read_manifest(path).files) bytes += f.bytes;
-  return bytes;
-}
-
-// The output folder, locked for this job (job_lock.h) before the scene is read, so that a
-// second job into the same folder is refused at once.
-//
-// A job that fails for a reason a resume cannot mend (a scene that does not read, a setting
-// the job cannot take) must not leave a half-written stack that looks like a result. The
-// folder is put back as it was found when it was absent or empty; a folder that already held
-// files is left alone, since they are not this job's to delete. Write errors and a fraction
-// sum that breaks the rule keep the completed layers: the manifest then says the job failed,
-// and --resume finishes it once there is room, or after a correction of the scene that
-// cannot change them. The files are removed while the lock is still held, so that they
-// cannot be another job's.
-class LockedOutputFolder {
- public:
-  LockedOutputFolder(std::filesystem::path dir, int shard_index, int shard_count) : dir_(std::move(dir)) {
-    std::error_code ec;
-    existed_ = std::filesystem::exists(dir_, ec);
-    was_empty_ = existed_ && std::filesystem::is_directory(dir_, ec) && std::filesystem::is_empty(dir_, ec);
-    try {
-      lock_.emplace(dir_, shard_index, shard_count);
-    } catch (const IoError&) {
-      // A folder that cannot be created holds no other job: the checks that follow report it
-      // (the disk check names the space there), or the job itself, which locks it then.
-    }
-  }
-  LockedOutputFolder(const LockedOutputFolder&) = delete;
-  LockedOutputFolder& operator=(const LockedOutputFolder&) = delete;
-  ~LockedOutputFolder() {
-    const bool roll_back = !committed_ && (!existed_ || was_empty_);
-    std::error_code ec;
-    // The lock files stay until the lock is released; the construction cache is this job's.
-    if (roll_back)
-      for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (!name.starts_with(".trivox") || name == kConstructionCacheFolder)
-          std::filesystem::remove_all(entry.path(), ec);
-      }
-    lock_.reset();                                                  // removes the lock files
-    if (roll_back && !existed_) std::filesystem::remove(dir_, ec);  // only when nothing else came in
-  }
-  // The lock, or nullptr when the folder could not be created.
-  JobFolderLock* lock() { return lock_ ? &*lock_ : nullptr; }
-  void commit() noexcept { committed_ = true; }
-
- private:
-  std::filesystem::path dir_;
-  bool existed_ = false, was_empty_ = false, committed_ = false;
-  std::optional<JobFolderLock> lock_;
-};
-
-void run(const SliceOptions& so) {
-  // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
-  // interrupted manifest rather than the default action.
-  install_stop_handlers();
-  const JobOptions& o = so.job;
-  JobParams job = job_params_of(o);
-  job.resume = so.resume;
-  job.stop = &g_stop;
-  job.manifest_interval_seconds = so.manifest_interval_s;
-  // One job per folder: refused here, before the scene is read, when another job holds it.
-  LockedOutputFolder folder(job.output_dir, job.shard_index, job.shard_count);
-  job.folder_lock = folder.lock();
-  if (job.folder_lock && job.folder_lock->taken_over_from() && !so.quiet)
-    fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n",
-               *job.folder_lock->taken_over_from());
-
-  // Constructed volumes come from the output folder's cache when an earlier run (or another
-  // shard) built them (docs/SLICING.md, "The construction cache").
-  std::optional<ConstructionCache> cache;
-  if (!so.no_cache) cache.emplace(construction_cache_dir(job.output_dir));
-  SceneReadOptions read;
-  read.stop = &g_stop;
-  read.construction_cache = cache ? &*cache : nullptr;
-  const Scene scene = read_scene(o.scene, read);
-  if (cache) {
-    for (const std::string& w : cache->warnings()) fmt::print(stderr, "trivox: warning: {}\n", w);
-    if (cache->hits() > 0 && !so.quiet)
-      fmt::print(stderr, "trivox: {} constructed volume{} taken from the construction cache {}\n", cache->hits(),
-                 cache->hits() == 1 ? "" : "s", cache->dir().string());
-  }
-  warn_about_printer(scene);
-  SliceParams params = slice_params_of(o, scene);
-  params.stop = &g_stop;  // Ctrl-C also ends the set-up (meshes) and a layer in progress
-  const Slicer slicer(scene, params);
-  const SliceLayout& L = slicer.layout();
-  check_bitmap_shows_object(o, slicer);
-  if (!o.no_checks) {
-    // One sample layer is enough to refuse a job that is far too big; `trivox validate`
-    // samples more for a closer estimate.
-    JobEstimate estimate = estimate_job(slicer, job, EstimateParams{1, memory_limit_of(o).value_or(0)});
-    if (so.resume) estimate.output_bytes -= std::min(estimate.output_bytes, bytes_already_written(job));
-    check_job_fits(estimate, job, memory_limit_of(o));
-  }
-  if (!so.quiet)
-    fmt::print(stderr,
-               "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} "
-               "mm layers)\n",
-               scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
-               L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
-  if (!so.quiet) {
-    const DitherParams& d = slicer.dither_params();
-    fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
-               d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
-               d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
-  }
-  // Warnings go to standard error even with -q: they are about the result, not progress.
-  for (const std::string& w : colour_warnings(scene, job_background(scene, job)))
-    fmt::print(stderr, "trivox: warning: {}\n", w);
-  TerminalProgress progress(so.quiet);
-  // A job that fails on its input part way leaves no partial stack behind; one that fails
-  // to write (a full disk) or is stopped keeps what it completed for --resume.
-  JobStats st;
-  try {
-    st = run_slice_job(slicer, job, &progress);
-  } catch (const IoError&) {
-    folder.commit();
-    throw;
-  } catch (const FractionError& e) {
-    folder.commit();
-    std::fflush(stdout);
-    fmt::print(stderr,
-               "trivox: the job stopped at once; {} is marked failed and keeps the layers that were complete; correct "
-               "the scene and run the same command with --resume: it keeps them if the correction cannot change them "
-               "(and says why not otherwise)\n",
-               (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string());
-    throw;
-  }
-  folder.commit();
-  const std::string manifest =
-      (std::filesystem::path(o.output) / manifest_file_name(job.shard_index, job.shard_count)).string();
-  if (st.interrupted)
-    throw InterruptedError(
-        fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
-                    st.layers.size(), manifest));
-
-  LayerStats total;
-  for (const LayerStats& s : st.layers) total += s;
-  const std::int64_t inside = total.pixels_inside, global = total.global_calls;
+// The summary after a job: what it sliced, the counts, the printed extent, and notes on a
+// resumed, sharded, padded or short stack.
+void print_summary(const JobOptions& o, const SliceJob& slice_job, const Scene& scene, const SliceLayout& L,
+                   const JobStats& st) {
+  const JobParams& job = slice_job.params().job;
+  const std::int64_t inside = st.total.pixels_inside, global = st.total.global_calls;
   fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px, L.height_px,
              o.output, st.seconds, thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
-             inside > 0 ? 100.0 * static_cast<double>(global) / static_cast<double>(inside) : 0.0);
+             global_share_percent(st.total));
   if (!st.printed.empty()) {
     // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
     const Vec3 printed = printed_box_mm(st.printed, L).size(), model = scene.bounds().size();
@@ -263,23 +120,86 @@ void run(const SliceOptions& so) {
         "note: the stack has {} layers, fewer than the {} GrabCAD Voxel Print needs, as --min-layers {} asked "
         "(manifest.json records min_layers {})\n",
         stack_layers, JobParams::kVoxelPrintMinLayers, job.min_layers, job.min_layers);
-  // No voxel of the object in a job that sliced every model layer in this run (a resumed
-  // job's kept layers, or another shard's, are not counted here): the object is lost.
-  const int sliced_model_layers = static_cast<int>(st.layers.size());  // padding layers have no stats
-  const bool empty = inside == 0 && job.shard_count == 1 && st.layers_kept == 0 && sliced_model_layers > 0;
-  if (empty && o.allow_empty) fmt::print("note: the stack holds no voxel of the object (--allow-empty)\n");
-  fmt::print("statistics: {}\n",
-             (std::filesystem::path(o.output) /
-              (job.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", job.shard_index, job.shard_count)
-                                   : std::string("stats.json")))
-                 .string());
-  fmt::print("manifest: {}\n", manifest);
-  if (empty && !o.allow_empty)
-    throw EmptyResultError(fmt::format(
-        "{}: the stack holds no voxel of the object: no pixel centre of its {} layers lies inside a cell (the "
-        "object is thinner than a pixel, or falls between pixel centres); the files are written and {} is complete "
-        "(--allow-empty accepts an empty stack)",
-        o.output, sliced_model_layers, manifest));
+  if (slice_job.empty_result(st) && o.allow_empty)
+    fmt::print("note: the stack holds no voxel of the object (--allow-empty)\n");
+  fmt::print("statistics: {}\n", slice_job.stats_path().string());
+  fmt::print("manifest: {}\n", slice_job.manifest_path().string());
+}
+
+// The scene as read through the job, and what the construction cache said about it.
+Scene read_scene_of(const SliceOptions& so, SliceJob& slice_job) {
+  Scene scene = slice_job.read_scene(so.job.scene);
+  if (so.no_cache) return scene;
+  for (const std::string& w : slice_job.cache_warnings()) fmt::print(stderr, "trivox: warning: {}\n", w);
+  const int hits = slice_job.cache_hits();
+  if (hits > 0 && !so.quiet)
+    fmt::print(stderr, "trivox: {} constructed volume{} taken from the construction cache {}\n", hits,
+               hits == 1 ? "" : "s", slice_job.cache_dir().string());
+  return scene;
+}
+
+void print_job_lines(const SliceOptions& so, const Scene& scene, const Slicer& slicer) {
+  if (so.quiet) return;
+  const SliceLayout& L = slicer.layout();
+  fmt::print(stderr,
+             "trivox: {} cells, {} materials, printer {}: {} layers of {} x {} px ({:.4f} x {:.4f} mm pixels, {:.4f} "
+             "mm layers)\n",
+             scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
+             L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  const DitherParams& d = slicer.dither_params();
+  fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
+             d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
+             d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
+}
+
+void run(const SliceOptions& so) {
+  // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
+  // interrupted manifest rather than the default action.
+  install_stop_handlers();
+  const JobOptions& o = so.job;
+  SliceJobParams sp;
+  sp.job = job_params_of(o);
+  sp.job.resume = so.resume;
+  sp.job.stop = &g_stop;
+  sp.job.manifest_interval_seconds = so.manifest_interval_s;
+  sp.construction_cache = !so.no_cache;
+  sp.checks = !o.no_checks;
+  sp.allow_empty = o.allow_empty;
+  // One job per folder: refused here, before the scene is read, when another job holds it.
+  // A job that fails on its input leaves the folder as it found it (slice_job.h).
+  SliceJob slice_job(std::move(sp));
+  const JobParams& job = slice_job.params().job;
+  if (const auto holder = slice_job.lock_taken_over_from(); holder && !so.quiet)
+    fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n", *holder);
+
+  const Scene scene = read_scene_of(so, slice_job);
+  warn_about_printer(scene);
+  const Slicer slicer(scene, slice_job.slice_params(slice_params_of(o, scene)));
+  check_bitmap_shows_object(slicer, o.scene, o.allow_empty);
+  slice_job.check_fits(slicer);
+  print_job_lines(so, scene, slicer);
+  // Warnings go to standard error even with -q: they are about the result, not progress.
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job)))
+    fmt::print(stderr, "trivox: warning: {}\n", w);
+  TerminalProgress progress(so.quiet);
+  JobStats st;
+  try {
+    st = slice_job.run(slicer, &progress);
+  } catch (const FractionError& e) {
+    std::fflush(stdout);
+    fmt::print(stderr,
+               "trivox: the job stopped at once; {} is marked failed and keeps the layers that were complete; correct "
+               "the scene and run the same command with --resume: it keeps them if the correction cannot change them "
+               "(and says why not otherwise)\n",
+               slice_job.manifest_path().string());
+    throw;
+  }
+  if (st.interrupted)
+    throw InterruptedError(
+        fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
+                    st.layers.size(), slice_job.manifest_path().string()));
+  print_summary(o, slice_job, scene, slicer.layout(), st);
+  slice_job.check_result(st);
 }
 
 }  // namespace

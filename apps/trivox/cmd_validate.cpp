@@ -11,9 +11,10 @@
 #include "commands.h"
 #include "job_options.h"
 #include "trivox/error.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/slice_job.h"
 #include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job_estimate.h"
 
 namespace trivox::cli {
 
@@ -29,10 +30,9 @@ void run_validate(const ValidateOptions& v) {
   const JobParams job = job_params_of(o);
   const Scene scene = read_scene(o.scene);
   warn_about_printer(scene);
-  const Slicer slicer(scene, slice_params_of(o, scene));
-  check_bitmap_shows_object(o, slicer);
-  const JobEstimate e =
-      estimate_job(slicer, job, EstimateParams{v.samples, o.no_checks ? 0 : memory_limit_of(o).value_or(0)});
+  const Slicer slicer(scene, slice_params_for(slice_params_of(o, scene), job));
+  check_bitmap_shows_object(slicer, o.scene, o.allow_empty);
+  const JobEstimate e = estimate_job(slicer, job, EstimateParams{v.samples});
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
              scene.printer.name);
   print_estimate(e);
@@ -42,7 +42,7 @@ void run_validate(const ValidateOptions& v) {
       fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
   }
   if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
-  if (!o.no_checks) check_job_fits(e, job, memory_limit_of(o));
+  if (!o.no_checks) check_job_fits(e, job);
   // The fraction rules, proved cell by cell over each cell's domain (or not).
   const std::vector<CellFractionCheck> checks = check_scene_fractions(scene);
   int proved = 0, unproved = 0;
@@ -97,17 +97,19 @@ void print_scene_info(const std::string& scene_path) {
   JobOptions o;
   o.scene = scene_path;
   const Scene scene = read_scene(o.scene);
-  const Slicer slicer(scene, slice_params_of(o, scene));
+  // The estimate of a job with the default options, sampled whatever the memory limit.
+  JobParams job = job_params_of(o);
+  const Slicer slicer(scene, slice_params_for(slice_params_of(o, scene), job));
+  job.memory_limit_bytes.reset();
   const SliceLayout& L = slicer.layout();
   fmt::print("{}: scene, {} cells, {} materials, printer {}\n", scene_path, scene.cells.size(), scene.num_materials(),
              scene.printer.name);
   for (const MaterialDef& m : scene.materials)
     fmt::print("  material {}: rgba {},{},{},{}\n", m.name, m.rgba[0], m.rgba[1], m.rgba[2], m.rgba[3]);
   fmt::print("  pixels {:.4f} x {:.4f} mm, layers {:.4f} mm\n", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
-  for (const std::string& w : colour_warnings(scene, job_background(scene, job_params_of(o))))
-    fmt::print("  warning: {}\n", w);
+  for (const std::string& w : colour_warnings(scene, job_background(scene, job))) fmt::print("  warning: {}\n", w);
   fmt::print("estimate for `trivox slice` with the default options:\n");
-  print_estimate(estimate_job(slicer, job_params_of(o)));
+  print_estimate(estimate_job(slicer, job));
 }
 
 }  // namespace trivox::cli

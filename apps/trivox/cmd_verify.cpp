@@ -7,7 +7,7 @@
 
 #include "cli_errors.h"
 #include "commands.h"
-#include "trivox/slice/job_folder.h"
+#include "trivox/job/job_folder.h"
 
 namespace trivox::cli {
 

@@ -143,14 +143,15 @@ SliceParams slice_params_of(const JobOptions& o, const Scene& scene) {
   }
   if (o.vary_by_layer) dither.vary_by_layer = *o.vary_by_layer;
   params.dither = dither;
-  // The outline meshes are shared out within the memory limit before they are built.
-  if (!o.no_checks) params.memory_limit_bytes = memory_limit_of(o).value_or(0);
   return params;
 }
 
 JobParams job_params_of(const JobOptions& o) {
   JobParams job;
   job.output_dir = o.output;
+  // The one way the memory limit enters: the estimate, its checks and the slicer's outlines
+  // (slice_params_for) take it from here.
+  if (!o.no_checks) job.memory_limit_bytes = memory_limit_of(o);
   job.threads = o.threads;
   job.formats = o.formats;
   // Before anything is read: a prefix that is a path would write outside -o (exit 3).
@@ -188,15 +189,6 @@ JobParams job_params_of(const JobOptions& o) {
 void warn_about_printer(const Scene& scene) {
   if (const auto warning = layer_thickness_warning(scene.printer))
     fmt::print(stderr, "trivox: warning: {}\n", *warning);
-}
-
-void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer) {
-  const SliceLayout& L = slicer.layout();
-  if (o.allow_empty || (L.width_px >= 2 && L.height_px >= 2)) return;
-  throw EmptyResultError(
-      fmt::format("{}: the object is {} x {} px at printer '{}' (pixels of {:.4f} x {:.4f} mm): a bitmap under 2 "
-                  "pixels along x or y cannot show it; is the model in mm? (--allow-empty slices it anyway)",
-                  o.scene, L.width_px, L.height_px, slicer.scene().printer.name, L.pitch_x_mm, L.pitch_y_mm));
 }
 
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {

@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
 #include "trivox/slice/slice_params.h"
 
 namespace CLI {
@@ -56,10 +56,6 @@ JobParams job_params_of(const JobOptions& o);
 // Prints "trivox: warning: ..." on standard error for a printer profile whose layer
 // thickness no print mode of its family prints (printer_profile.h).
 void warn_about_printer(const Scene& scene);
-
-// Throws EmptyResultError (exit 6) unless o.allow_empty when the bitmap of `slicer`'s layout is
-// under 2 pixels along x or y: the object is smaller than the printer's pixels.
-void check_bitmap_shows_object(const JobOptions& o, const Slicer& slicer);
 
 // The memory limit the checks use, in bytes.
 std::optional<std::uint64_t> memory_limit_of(const JobOptions& o);

@@ -118,7 +118,7 @@ int main(int argc, char** argv) {
     return fail(kExitInterrupted, "interrupted", e.what());
   } catch (const trivox::CancelledError& e) {  // Ctrl-C before the job's folder was touched
     return fail(kExitInterrupted, "interrupted", fmt::format("{}; nothing was written", e.what()));
-  } catch (const EmptyResultError& e) {
+  } catch (const trivox::EmptyResultError& e) {  // a stack without the object (--allow-empty accepts it)
     return fail(kExitEmpty, "error", e.what());
   } catch (const CorruptOutputError& e) {
     return fail(kExitCorrupt, "verify failed", e.what());

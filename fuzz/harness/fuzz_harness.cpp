@@ -22,12 +22,12 @@
 #include "harness/pipeline_job.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_estimate.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/material/expression_material.h"
 #include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_estimate.h"
-#include "trivox/slice/job_folder.h"
 #include "trivox/slice/slicer.h"
 
 // The heap's size and its peak, counted by the sanitizer allocator's hooks where there is
@@ -410,6 +410,7 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     jp.min_layers = 0;
     jp.threads = job.threads;
     jp.stop = watchdog.flag();
+    jp.memory_limit_bytes = memory_limit;
     // Without tracing ("none", the reference strategy) every pixel near a cell is a global
     // solve, about a hundred times a traced pixel's cost: such jobs count 64 times.
     const double strategy_cost = sp.tracing == TracingStrategy::kNone ? 64.0 : 1.0;
@@ -418,8 +419,8 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
     outcome.pixels = static_cast<double>(L.width_px) * L.height_px * (jp.last_layer - jp.first_layer + 1);
     if (pixels > kPipelinePixels) return finish(PipelineOutcome::Kind::kTooLarge);
     [[maybe_unused]] const std::uint64_t resident = resident_bytes_now();  // read under TRIVOX_FUZZ_HEAP
-    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1, memory_limit});
-    check_job_fits(e, jp, memory_limit, std::nullopt);
+    const JobEstimate e = estimate_job(slicer, jp, EstimateParams{1});
+    check_job_fits(e, jp, std::nullopt);
 #ifdef TRIVOX_FUZZ_HEAP
     const long long heap_before = g_heap_bytes.load();
     g_heap_peak.store(heap_before);

@@ -68,6 +68,15 @@ class CancelledError : public Error {
   using Error::Error;
 };
 
+// A job that sliced every layer of the object itself made a stack without a voxel of it (no
+// pixel centre lies inside a cell: the object is thinner than a pixel, or falls between pixel
+// centres), or would (its bitmap is under 2 pixels along x or y). The files are complete; the
+// caller asked for the object and did not get it (SliceJobParams::allow_empty accepts it).
+class EmptyResultError : public Error {
+ public:
+  using Error::Error;
+};
+
 // A name from the input (a material, a cell, a prefix) as messages show it, in `quote`s: control
 // characters as \xNN, and a name longer than 80 bytes cut after them (at a UTF-8 character's
 // start) with its length: 'aaaa...' (1000000 characters). Messages stay one readable line

@@ -24,6 +24,8 @@
 #include "trivox/inverse/invert.h"
 #include "trivox/math.h"
 #include "trivox/scene/scene.h"
+#include "trivox/slice/slice_stats.h"
+#include "trivox/slice/slicer.h"
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
@@ -62,6 +64,16 @@ using ScenePtr = std::shared_ptr<const Scene>;
 struct SceneHandle {
   ScenePtr scene;
 };
+
+// The library's slicer and the scene it keeps a reference to (trivox._Slicer).
+struct PySlicer {
+  ScenePtr scene;
+  std::unique_ptr<Slicer> slicer;
+};
+
+// A layer's counts (or a job's sum) as a dict with stats.json's names (visit_layer_stats);
+// `part` kLayer adds the layer's index, height and times.
+py::dict stats_dict(const LayerStats& s, LayerStatsPart part = LayerStatsPart::kLayer);
 
 // A batch of 3-vectors: an array whose last axis has length 3. `lead` receives the shape
 // before that axis. Throws ValueError naming `what` otherwise.
@@ -112,5 +124,6 @@ void bind_model(py::module_& m);
 void bind_construct(py::module_& m);
 void bind_scene(py::module_& m);
 void bind_slice(py::module_& m);
+void bind_job(py::module_& m);
 
 }  // namespace trivox::python

@@ -18,6 +18,7 @@ PyObject* g_input_error = nullptr;
 PyObject* g_unsupported_error = nullptr;
 PyObject* g_io_error = nullptr;
 PyObject* g_expression_error = nullptr;
+PyObject* g_empty_result_error = nullptr;
 
 PyObject* new_class(py::module_& m, const char* name, const char* doc, PyObject* base) {
   const std::string qualified = std::string("trivox.") + name;
@@ -66,6 +67,12 @@ void bind_errors(py::module_& m) {
                                  "An expression that does not compile; e.index is the material index of the expression "
                                  "(-1 for a constant's name).",
                                  g_error);
+  g_empty_result_error =
+      new_class(m, "EmptyResultError",
+                "A job that sliced every layer of the object itself made a stack without a voxel of it (the object "
+                "is thinner than a pixel, or falls between pixel centres); the files are complete. slice(..., "
+                "allow_empty=True) accepts such a stack.",
+                g_error);
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -81,6 +88,8 @@ void bind_errors(py::module_& m) {
       PyErr_SetString(g_model_error, e.what());
     } catch (const IoError& e) {
       PyErr_SetString(g_io_error, e.what());
+    } catch (const EmptyResultError& e) {
+      PyErr_SetString(g_empty_result_error, e.what());
     } catch (const Error& e) {
       PyErr_SetString(g_error, e.what());
     }

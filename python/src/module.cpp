@@ -18,6 +18,7 @@ PYBIND11_MODULE(_trivox, m) {
   tp::bind_construct(m);
   tp::bind_scene(m);
   tp::bind_slice(m);
+  tp::bind_job(m);
   // The evaluation kernels' SIMD targets (docs/PYTHON.md, "Evaluation and inversion").
   m.def("simd_targets", &trivox::simd_targets,
         "The SIMD targets this processor runs in this build, best first (e.g. ['avx512', 'avx2', 'sse4', "

@@ -24,6 +24,7 @@ from . import _trivox
 from ._trivox import (
     ConstructionReport,
     Constructed,
+    EmptyResultError,
     Error,
     ExpressionError,
     GlobalInversion,
@@ -141,7 +142,7 @@ def insert_knot(x: Any, dir: Any, t: float, times: int = 1) -> Any:  # noqa: A00
 
 
 __all__ = [
-    "Blend", "Cell", "CellInfo", "Constant", "Constructed", "ConstructionReport", "Error",
+    "Blend", "Cell", "CellInfo", "Constant", "Constructed", "ConstructionReport", "EmptyResultError", "Error",
     "Expression", "ExpressionError", "FieldScalar", "Function", "GlobalInversion", "GlobalStatus",
     "InputError", "InverseStatus", "Inversion", "IoError", "JacobianReport", "JobResult", "Layer",
     "Layout", "MaterialDef", "MaterialFunction", "Model", "ModelError", "NamedVolume", "Patch",

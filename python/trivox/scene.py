@@ -296,10 +296,15 @@ class Scene:
     @property
     def handle(self) -> Any:
         """The library's scene (read on first use)."""
+        return self._library_scene(_trivox._parse_scene)
+
+    def _library_scene(self, parse: Callable[[str, str], Any]) -> Any:
+        """The library's scene, parsed by parse(text, source) when it is not yet: a slicing
+        job passes its own, which reads constructed volumes through its folder's cache."""
         if self._handle is None:
             doc, slots = _split_python_materials(self._doc)
             text = json.dumps(_absolute_files(doc, self._base))
-            handle = _trivox._parse_scene(text, self._source)
+            handle = parse(text, self._source)
             if slots:
                 handle = handle.with_python_materials(slots)
             self._handle = handle
@@ -434,8 +439,13 @@ def read_scene(path: _Union[str, "os.PathLike[str]"]) -> Scene:
     """Reads a scene file (trivox::read_scene): files it names are read relative to its
     folder. Raises IoError when it cannot be read, InputError ("scene.json: /json/pointer:
     rule") for anything wrong in it or in the files it names."""
+    return _read_scene_with(path, _trivox._read_scene)
+
+
+def _read_scene_with(path: _Union[str, "os.PathLike[str]"], read: Callable[[str], Any]) -> Scene:
+    """read_scene with the library's scene from read(path): a slicing job passes its own."""
     path = os.fspath(path)
-    handle = _trivox._read_scene(path)
+    handle = read(path)
     with open(path, encoding="utf-8") as f:
         text = f.read()
     scene = Scene.__new__(Scene)

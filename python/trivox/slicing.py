@@ -5,11 +5,10 @@ from __future__ import annotations
 
 import operator
 import os
-import shutil
 from typing import Any, Callable, Dict, List, NamedTuple, Optional, Sequence, Tuple, Union
 
 from . import _trivox
-from .scene import Scene, read_scene
+from .scene import Scene, _read_scene_with, read_scene
 
 __all__ = ["Slicer", "Layer", "JobResult", "slice_layer", "slice"]
 
@@ -36,7 +35,9 @@ class Layer(NamedTuple):
 class JobResult(NamedTuple):
     """What a slicing job did: per-layer stats in layer order, every file it wrote (relative to
     the output folder, sorted), its wall time, threads, empty layers padded and layers a
-    resumed job kept."""
+    resumed job kept; total: the layers' counts summed (stats.json's "total" counts); the
+    constructed volumes the construction cache supplied and what it warned about (damaged or
+    unusable entries, which were built again)."""
 
     layers: List[Dict[str, Any]]
     files: List[str]
@@ -44,6 +45,9 @@ class JobResult(NamedTuple):
     threads: int
     padded_layers: int
     layers_kept: int
+    total: Optional[Dict[str, Any]] = None
+    cache_hits: int = 0
+    cache_warnings: Tuple[str, ...] = ()
 
 
 class Slicer:
@@ -91,8 +95,10 @@ class Slicer:
         return Layer(r["labels"], r.get("fractions"), r.get("inside"), r.get("owner"), r["stats"])
 
     def slice(self, output_dir: Union[str, "os.PathLike[str]"], **job: Any) -> JobResult:
-        """The whole job into output_dir; the keyword arguments are slice()'s job settings."""
-        return _run(self, output_dir, **job)
+        """The whole job into output_dir; the keyword arguments are slice()'s job settings.
+        The scene is already read, so the job locks the folder after it (slice() given a
+        path locks before)."""
+        return _run(self, output_dir, {}, **job)
 
 
 def slice_layer(scene: SceneLike, layer: int, *, fractions: bool = False, **settings: Any) -> Any:
@@ -116,7 +122,7 @@ def _layer_range(layers: Union[None, int, range]) -> Tuple[int, int]:
 
 
 def slice(  # noqa: A001 - the verb is the API's name
-    scene: SceneLike,
+    scene: Union[SceneLike, Slicer],
     output_dir: Union[str, "os.PathLike[str]"],
     *,
     formats: Sequence[str] = ("voxelprint",),
@@ -132,6 +138,8 @@ def slice(  # noqa: A001 - the verb is the API's name
     checks: bool = True,
     memory_limit_mb: Optional[float] = None,
     manifest_interval_s: float = 1.0,
+    construction_cache: bool = True,
+    allow_empty: bool = False,
     **settings: Any,
 ) -> JobResult:
     """Runs the job of ``trivox slice`` and writes the same bytes (every file but the timings in
@@ -143,25 +151,42 @@ def slice(  # noqa: A001 - the verb is the API's name
     ``--shard I/N``; resume: continue the job recorded in the folder's manifest; progress:
     progress(done, total) called on this thread after layers complete; checks: refuse a job
     the estimate says will not fit the disk or the memory (memory_limit_mb, default the
-    machine's); the other keyword arguments are Slicer's settings.
+    machine's); construction_cache: read the scene through the folder's construction cache
+    (``--no-cache`` is False); allow_empty: accept a stack without a voxel of the object
+    (``--allow-empty``); the other keyword arguments are Slicer's settings.
+
+    As the command line, the job locks output_dir before the scene is read (Error when
+    another job writes into it); a scene given as a path, or a Scene not yet read, is read
+    through the folder's construction cache. A job that fails on its input leaves the folder
+    as it found it (absent or empty); one that fails to write keeps its completed layers for
+    a resume. A job that sliced every layer of the object itself and found no voxel of it
+    raises EmptyResultError once the files are written, unless allow_empty.
 
     Ctrl-C (KeyboardInterrupt), or an exception raised by `progress`, stops the job: no new
     layer starts, the manifest is marked interrupted, and the exception is raised once the
-    running layers have finished; ``resume=True`` continues it. A job that fails on its input
-    (an error in a layer) leaves the folder as it found it, as the command line does.
+    running layers have finished; ``resume=True`` continues it.
     """
-    slicer = scene if isinstance(scene, Slicer) else Slicer(scene, **settings)
     if isinstance(scene, Slicer) and settings:
         raise TypeError("give the slicing settings to the Slicer, not to slice()")
     return _run(
-        slicer, output_dir, formats=formats, layers=layers, threads=threads, prefix=prefix, background=background,
-        min_layers=min_layers, preview=preview, shard=shard, resume=resume, progress=progress, checks=checks,
-        memory_limit_mb=memory_limit_mb, manifest_interval_s=manifest_interval_s)
+        scene, output_dir, settings, formats=formats, layers=layers, threads=threads, prefix=prefix,
+        background=background, min_layers=min_layers, preview=preview, shard=shard, resume=resume, progress=progress,
+        checks=checks, memory_limit_mb=memory_limit_mb, manifest_interval_s=manifest_interval_s,
+        construction_cache=construction_cache, allow_empty=allow_empty)
+
+
+def _job_scene(job: Any, scene: SceneLike) -> Scene:
+    """The scene, read (or parsed, when not yet) through the job and its construction cache."""
+    if isinstance(scene, Scene):
+        scene._library_scene(job.parse_scene)
+        return scene
+    return _read_scene_with(scene, job.read_scene)
 
 
 def _run(
-    slicer: Slicer,
+    scene: Union[SceneLike, Slicer],
     output_dir: Union[str, "os.PathLike[str]"],
+    settings: Dict[str, Any],
     *,
     formats: Sequence[str] = ("voxelprint",),
     layers: Union[None, int, range] = None,
@@ -176,41 +201,25 @@ def _run(
     checks: bool = True,
     memory_limit_mb: Optional[float] = None,
     manifest_interval_s: float = 1.0,
+    construction_cache: bool = True,
+    allow_empty: bool = False,
 ) -> JobResult:
     if isinstance(formats, str):
         formats = [f for f in formats.split(",") if f]
     first, last = _layer_range(layers)
     shard_index, shard_count = shard if shard is not None else (1, 1)
-    output_dir = os.fspath(output_dir)
-    # As the command line: a job that fails on its input leaves no half-written stack behind
-    # (the folder is put back as found when it was absent or empty); one that fails to write,
-    # or is stopped, keeps what it completed for resume.
-    existed = os.path.exists(output_dir)
-    was_empty = existed and os.path.isdir(output_dir) and not os.listdir(output_dir)
-    stopped: List[BaseException] = []
-
-    def report(done: int, total: int) -> None:
-        try:
-            progress(done, total)  # type: ignore[misc]
-        except BaseException as e:
-            stopped.append(e)  # the caller's stop: the job is resumable, not rolled back
-            raise
-
+    # The library's job (trivox::SliceJob): the lock now, before the scene is read; the
+    # folder put back as found, on close, when the job failed on its input.
+    job = _trivox._Job(
+        os.fspath(output_dir), list(formats), first, last, threads, prefix,
+        None if background is None else list(background), min_layers, list(preview), shard_index, shard_count,
+        resume, checks, memory_limit_mb, manifest_interval_s, construction_cache, allow_empty)
     try:
-        r = slicer._slicer.run_job(
-            output_dir, list(formats), first, last, threads, prefix, None if background is None else list(background), min_layers,
-            list(preview), shard_index, shard_count, resume, report if progress is not None else None, checks,
-            memory_limit_mb, manifest_interval_s)
-    except (_trivox.IoError, KeyboardInterrupt):
-        raise
-    except BaseException as e:
-        if any(e is s for s in stopped):
-            raise
-        if not existed:
-            shutil.rmtree(output_dir, ignore_errors=True)
-        elif was_empty:
-            for entry in os.listdir(output_dir):
-                p = os.path.join(output_dir, entry)
-                shutil.rmtree(p, ignore_errors=True) if os.path.isdir(p) else os.remove(p)
-        raise
-    return JobResult(r["layers"], r["files"], r["seconds"], r["threads"], r["padded_layers"], r["layers_kept"])
+        slicer = scene if isinstance(scene, Slicer) else Slicer(_job_scene(job, scene), **settings)
+        r = job.run(slicer._slicer, progress)
+        hits, warnings = job.cache_hits, job.cache_warnings
+    finally:
+        job.close()
+    return JobResult(
+        r["layers"], r["files"], r["seconds"], r["threads"], r["padded_layers"], r["layers_kept"], r["total"], hits,
+        tuple(warnings))

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/io/model.h"
 
 namespace trivox::test {
@@ -20,28 +20,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A tube revolved from a profile in a model file: a constructed cell that slices in moments.
-const char* const kScene = R"({"version": 1, "units": "mm", "printer": "j750-hm",
- "materials": [{"name": "VeroCyan", "rgba": [20, 100, 200, 255]}],
- "cells": [{"name": "tube",
-   "geometry": {"revolve": {"profile": {"file": "profile.itd"}, "angle_deg": 270}},
-   "material": {"kind": "constant", "fractions": {"VeroCyan": 1}}}]})";
-
-// The profile: a plate from inner radius `inner` to 10 mm, 1.5 mm tall, in the xz plane.
-void write_profile(const fs::path& path, double inner) {
-  const TensorSpline plate({KnotVector::bezier(2), KnotVector::bezier(2)}, 3,
-                           {inner, 0, 0, 10, 0, 0, inner, 0, 1.5, 10, 0, 1.5});
-  Model m;
-  m.patches.push_back({"PROFILE", 0, 0, plate});
-  std::ofstream out(path);
-  write_itd(out, m);
-}
-
 class CliConstructionCache : public ::testing::Test {
  protected:
   void SetUp() override {
-    write_text(dir_.path() / "tube.json", kScene);
-    write_profile(dir_.path() / "profile.itd", 8);
+    write_text(dir_.path() / "tube.json", kRevolvedTubeScene);
+    write_tube_profile(dir_.path() / "profile.itd", 8);
   }
   std::string slice(const fs::path& out, const std::string& extra = {}) const {
     return fmt::format("slice {} -o {} --layers 1:4 --min-layers 0 -j 2 {}", shell_quote(dir_.path() / "tube.json"),
@@ -129,7 +112,7 @@ TEST_F(CliConstructionCache, ADamagedEntryIsAWarningAndIsBuiltAgain) {
 TEST_F(CliConstructionCache, AChangedModelFileIsBuiltAgain) {
   const fs::path out = dir_.path() / "out";
   ASSERT_EQ(run_cli(slice(out)).exit_code, 0);
-  write_profile(dir_.path() / "profile.itd", 7);
+  write_tube_profile(dir_.path() / "profile.itd", 7);
   const CliResult changed = run_cli(slice(out));
   ASSERT_EQ(changed.exit_code, 0) << changed.err;
   EXPECT_EQ(changed.err.find("construction cache"), std::string::npos) << changed.err;

@@ -1,8 +1,9 @@
 // One job per output folder (docs/CLI.md, "One job per folder"): a job into a folder another
 // job holds is refused at once (exit 3, naming the folder and the other process); a lock
 // left by a killed job is taken over; the shards of one job run at once; the lock files are
-// gone when a job ends. The other job is this test process, holding the lock through the
-// library (JobFolderLock) as a running `trivox slice` does.
+// gone when a job ends; merge takes the lock, verify and validate do not. The other job is
+// this test process, holding the lock through the library (JobFolderLock) as a running
+// `trivox slice` does.
 #include <unistd.h>
 
 #include <chrono>
@@ -15,7 +16,7 @@
 #include "cli_run.h"
 #include "cli_small_scene.h"
 #include "trivox/error.h"
-#include "trivox/slice/job_lock.h"
+#include "trivox/job/job_lock.h"
 
 namespace trivox::test {
 namespace {
@@ -105,6 +106,29 @@ TEST_F(CliFolderLock, TheShardsOfOneJobRunAtOnceButNotTwiceNorBesideAWholeJob) {
   EXPECT_FALSE(any_lock_file());
   const CliResult merged = run_cli(fmt::format("merge {}", shell_quote(out())));
   EXPECT_EQ(merged.exit_code, 0) << merged.err;
+}
+
+// merge writes, so it holds the folder as a whole job does: refused while a shard runs.
+// verify and validate only read the folder: they run beside a job and leave no lock file.
+TEST_F(CliFolderLock, MergeWaitsForTheShardsWhileVerifyAndValidateTakeNoLock) {
+  for (const char* shard : {"1/2", "2/2"}) ASSERT_EQ(slice(fmt::format("-q --shard {}", shard)).exit_code, 0);
+  {
+    const JobFolderLock running(out(), 2, 2);  // shard 2 running again (a --resume)
+    const CliResult merge = run_cli("merge " + shell_quote(out()));
+    EXPECT_EQ(merge.exit_code, 3) << merge.err;
+    EXPECT_NE(merge.err.find(out().string() + ": another trivox job is writing into this folder"), std::string::npos)
+        << merge.err;
+    EXPECT_TRUE(fs::exists(out() / "manifest.shard-1-of-2.json"));
+    EXPECT_FALSE(fs::exists(out() / "manifest.json"));
+  }
+  ASSERT_EQ(run_cli("merge " + shell_quote(out())).exit_code, 0);
+  EXPECT_FALSE(any_lock_file()) << "merge left its lock file";
+  const JobFolderLock running(out());
+  const CliResult verify = run_cli("verify " + shell_quote(out()));
+  EXPECT_EQ(verify.exit_code, 0) << verify.out << verify.err;
+  const CliResult validate =
+      run_cli(fmt::format("validate {} -o {} --samples 1", shell_quote(dir_.path() / "box.json"), shell_quote(out())));
+  EXPECT_EQ(validate.exit_code, 0) << validate.out << validate.err;
 }
 
 }  // namespace

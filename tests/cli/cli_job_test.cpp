@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 

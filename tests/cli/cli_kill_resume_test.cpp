@@ -24,11 +24,11 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/manifest.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/manifest.h"
 
 extern char** environ;
 

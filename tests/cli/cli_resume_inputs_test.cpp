@@ -8,9 +8,9 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_run.h"
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/io/detail/sha256.h"
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 
 namespace trivox::test {
 namespace {

@@ -22,13 +22,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job.h"
 #include "trivox/material/detail/constant_material.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {

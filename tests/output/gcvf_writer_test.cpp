@@ -18,15 +18,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "job/job_fixtures.h"
 #include "output/zip_writer.h"
-#include "slice/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {

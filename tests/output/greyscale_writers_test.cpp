@@ -19,15 +19,15 @@
 #include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/output/detail/gcvf_package.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {

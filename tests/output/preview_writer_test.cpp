@@ -10,13 +10,13 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
 
 namespace trivox {
 namespace {

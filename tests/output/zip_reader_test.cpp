@@ -16,8 +16,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "job/job_fixtures.h"
 #include "output/zip_writer.h"
-#include "slice/job_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/output/atomic_file.h"
 

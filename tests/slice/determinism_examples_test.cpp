@@ -21,10 +21,10 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "support/test_support.h"
+#include "trivox/job/job.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
 
 namespace trivox {
 namespace {

@@ -8,9 +8,9 @@
 #include "cli/cli_run.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
 #include "trivox/output/display_colours.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
 
 namespace trivox {
 namespace {

@@ -1,9 +1,12 @@
 // What slicing a layer counted: how its pixels were settled (the tracer's counters) and the
-// columns of the paper's Table 2. A job sums its layers with +=; stats.json (FORMATS.md)
-// writes every counter under the name kTraceCounterFields gives it.
+// columns of the paper's Table 2. A job sums its layers once (sum_layer_stats); stats.json
+// (FORMATS.md), the program's summary and the Python module's stats dicts all take the values
+// by walking one list (visit_layer_stats, and kTraceCounterFields inside it), so that a new
+// counter reaches each of them, or fails to compile.
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -90,6 +93,62 @@ inline LayerStats& LayerStats::operator+=(const LayerStats& o) {
   add(voxels_per_material, o.voxels_per_material);
   add(pixels_per_cell, o.pixels_per_cell);
   return *this;
+}
+
+// LayerStats member by member: a member added to LayerStats without one here (and in
+// visit_layer_stats below) breaks this assertion.
+namespace detail {
+struct LayerStatsMembers {
+  TraceCounters counters;
+  int layer;
+  double z_mm, seconds, seconds_inverse, seconds_material, seconds_dither;
+  std::int64_t pixels_total, pixels_inside;
+  std::vector<std::int64_t> voxels_per_material, pixels_per_cell;
+};
+}  // namespace detail
+static_assert(sizeof(LayerStats) == sizeof(detail::LayerStatsMembers),
+              "every LayerStats member needs its place in visit_layer_stats");
+
+// The share of the inside voxels the global solver settled, in percent (0 when none is inside).
+inline double global_share_percent(const LayerStats& s) noexcept {
+  return s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
+}
+
+// The layers of a job summed in their order, with a count per material and per cell even
+// where no layer has one (num_materials, num_cells zeros to start from).
+inline LayerStats sum_layer_stats(const std::vector<LayerStats>& layers, std::size_t num_materials,
+                                  std::size_t num_cells) {
+  LayerStats total;
+  total.voxels_per_material.assign(num_materials, 0);
+  total.pixels_per_cell.assign(num_cells, 0);
+  for (const LayerStats& s : layers) total += s;
+  return total;
+}
+
+// Which values visit_layer_stats names: a layer's own (its index, height and times) and the
+// counts a sum of layers keeps too.
+enum class LayerStatsPart { kLayer, kCounts };
+
+// Calls visit(name, value) for every value of `s` under its name in stats.json: with kLayer,
+// "layer", "z_mm" and the four times first; then the tracer's counters (kTraceCounterFields),
+// "global_share_percent" (derived), "pixels_total", "pixels_inside", "voxels_per_material" and
+// "pixels_per_cell". value is an int, a double, a std::int64_t or a std::vector<std::int64_t>.
+template <class Visit>
+void visit_layer_stats(const LayerStats& s, LayerStatsPart part, Visit&& visit) {
+  if (part == LayerStatsPart::kLayer) {
+    visit(std::string_view("layer"), s.layer);
+    visit(std::string_view("z_mm"), s.z_mm);
+    visit(std::string_view("seconds"), s.seconds);
+    visit(std::string_view("seconds_inverse"), s.seconds_inverse);
+    visit(std::string_view("seconds_material"), s.seconds_material);
+    visit(std::string_view("seconds_dither"), s.seconds_dither);
+  }
+  for (const TraceCounterField& f : kTraceCounterFields) visit(f.name, s.*f.member);
+  visit(std::string_view("global_share_percent"), global_share_percent(s));
+  visit(std::string_view("pixels_total"), s.pixels_total);
+  visit(std::string_view("pixels_inside"), s.pixels_inside);
+  visit(std::string_view("voxels_per_material"), s.voxels_per_material);
+  visit(std::string_view("pixels_per_cell"), s.pixels_per_cell);
 }
 
 }  // namespace trivox

@@ -5,8 +5,8 @@
 
 #include <filesystem>
 
+#include "trivox/job/job.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/slice/job.h"
 
 namespace trivox::detail {
 

@@ -1,4 +1,4 @@
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 
 #include <algorithm>
 #include <fstream>
@@ -48,6 +48,11 @@ void JobManifest::sort_files() {
 std::string manifest_file_name(int shard_index, int shard_count) {
   if (shard_count <= 1) return "manifest.json";
   return fmt::format("manifest.shard-{}-of-{}.json", shard_index, shard_count);
+}
+
+std::string stats_file_name(int shard_index, int shard_count) {
+  if (shard_count <= 1) return "stats.json";
+  return fmt::format("stats.shard-{}-of-{}.json", shard_index, shard_count);
 }
 
 bool shard_has_layer(int index, int shard_index, int shard_count) noexcept {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 
 namespace trivox {
 
@@ -14,8 +14,11 @@ namespace trivox {
 // there, complete, of the same job (manifest_differences) and that together they list every
 // job layer exactly once with files of the recorded size and SHA-256; then writes
 // manifest.json - the same bytes a single run writes - and removes the shard manifests.
-// Throws Error naming the folder and what is missing or inconsistent, IoError when a file
-// cannot be read or written. Returns the merged manifest.
+// Since it writes, it holds the folder's lock as a whole job does (job_lock.h), from after
+// the shard manifests are found until it returns: a shard still running, or any job writing
+// into the folder, makes it throw Error naming that job. Throws Error naming the folder and
+// what is missing or inconsistent, IoError when a file cannot be read or written. Returns
+// the merged manifest.
 JobManifest merge_shards(const std::filesystem::path& dir);
 
 struct VerifyReport {
@@ -27,6 +30,7 @@ struct VerifyReport {
   bool ok() const noexcept { return problems.empty(); }
 };
 
+// Reads only, so takes no lock (a job running in the folder shows as not complete).
 // Re-hashes every file manifest.json lists and decodes it by kind: PNG images, the legacy
 // 1-bit BMPs, every page of a TIFF stack, every grid of an OpenVDB file, every entry of a
 // GrabCAD package (CRC-32 checked, PNGs decoded). Legacy bitmaps, TIFF pages and package

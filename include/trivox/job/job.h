@@ -8,7 +8,9 @@
 // records the job as layers complete, so a job that is stopped (JobParams::stop), killed or
 // fails can be resumed (JobParams::resume) and ends with the same bytes as one that ran
 // through. A job can also be split into shards (JobParams::shard_*), merged with
-// merge_shards() (job_folder.h).
+// merge_shards() (job_folder.h). SliceJob (slice_job.h) is the whole job around
+// run_slice_job: the folder locked before the scene is read, the construction cache, the
+// checks and the empty-result rule.
 #pragma once
 
 #include <array>
@@ -19,10 +21,10 @@
 #include <string>
 #include <vector>
 
+#include "trivox/job/manifest.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/output/png_io.h"
 #include "trivox/scene/construction_cache.h"
-#include "trivox/slice/manifest.h"
-#include "trivox/slice/printed_extent.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox {
@@ -83,11 +85,16 @@ struct JobParams {
   // to refuse a second job before reading the scene; it must be for output_dir and this
   // shard. nullptr: run_slice_job takes the lock itself, and releases it when it returns.
   JobFolderLock* folder_lock = nullptr;
+  // The memory the job may use, in bytes; nullopt: no limit. The one place the limit enters:
+  // the estimate (estimate_job, which then slices no sample layer of a job already over it),
+  // check_job_fits, and the slicer's outlines through SliceJob::slice_params().
+  std::optional<std::uint64_t> memory_limit_bytes;
 };
 
 struct JobStats {
   SliceLayout layout;
   std::vector<LayerStats> layers;  // in layer order
+  LayerStats total;                // the layers summed (sum_layer_stats), as stats.json's "total"
   int padded_layers = 0;           // empty layers added to reach min_layers
   double seconds = 0;              // wall time of the whole job
   int threads = 0;
@@ -127,7 +134,7 @@ std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& 
 JobManifest job_manifest(const Slicer& slicer, const JobParams& params);
 
 // The construction cache of a job's output folder (scene/construction_cache.h), which
-// `trivox slice` reads the scene through: DIR/.trivox-cache. Repeated runs into the folder,
+// SliceJob (slice_job.h) reads the scene through: DIR/.trivox-cache. Repeated runs into the folder,
 // --resume and every shard of the job then build each constructed volume once.
 inline std::filesystem::path construction_cache_dir(const std::filesystem::path& output_dir) {
   return output_dir / kConstructionCacheFolder;

@@ -1,5 +1,5 @@
 // Job estimates against the job itself, and the up-front refusals.
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job_estimate.h"
 
 #include <unistd.h>
 
@@ -12,8 +12,8 @@
 
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
 #include "trivox/output/detail/vdb_stack.h"
-#include "trivox/slice/job.h"
 
 namespace trivox {
 namespace {
@@ -107,10 +107,11 @@ TEST(JobEstimate, AJobTooLargeForMemorySlicesNoSampleLayer) {
   JobParams p;
   const JobEstimate unlimited = estimate_job(slicer, p, EstimateParams{2});
   EXPECT_EQ(unlimited.sampled_layers, 2);
-  const JobEstimate e = estimate_job(slicer, p, EstimateParams{2, unlimited.peak_memory_bytes / 2});
+  p.memory_limit_bytes = unlimited.peak_memory_bytes / 2;
+  const JobEstimate e = estimate_job(slicer, p, EstimateParams{2});
   EXPECT_EQ(e.sampled_layers, 0);
   EXPECT_EQ(e.output_bytes, 0u);
-  EXPECT_THROW(check_job_fits(e, p, unlimited.peak_memory_bytes / 2), Error);
+  EXPECT_THROW(check_job_fits(e, p), Error);
 }
 
 TEST(JobEstimate, RefusesWhatTheDiskOrMemoryCannotTake) {
@@ -123,16 +124,18 @@ TEST(JobEstimate, RefusesWhatTheDiskOrMemoryCannotTake) {
   JobParams p;
   p.output_dir = fs::temp_directory_path() / "trivox-no-such-folder" / "out";
   try {
-    check_job_fits(e, p, std::nullopt);
+    check_job_fits(e, p);
     FAIL() << "a job larger than any disk was accepted";
   } catch (const Error& err) {
     EXPECT_NE(std::string(err.what()).find("trivox-no-such-folder"), std::string::npos) << err.what();
     EXPECT_NE(std::string(err.what()).find("disk"), std::string::npos) << err.what();
   }
   e.output_bytes = 1;
-  EXPECT_NO_THROW(check_job_fits(e, p, std::uint64_t{1000}));
+  p.memory_limit_bytes = 1000;
+  EXPECT_NO_THROW(check_job_fits(e, p));
+  p.memory_limit_bytes = 999;
   try {
-    check_job_fits(e, p, std::uint64_t{999});
+    check_job_fits(e, p);
     FAIL() << "a job over the memory limit was accepted";
   } catch (const Error& err) {
     EXPECT_NE(std::string(err.what()).find("memory"), std::string::npos) << err.what();
@@ -218,9 +221,9 @@ TEST(JobEstimate, RefusesStackOutputsTheDiskOrMemoryCannotTake) {
   p.formats = {"voxelprint", "vdb"};
   const JobEstimate e = estimate_job(slicer, p, EstimateParams{2});
   const std::uint64_t disk = e.output_bytes + e.scratch_bytes;
-  EXPECT_NO_THROW(check_job_fits(e, p, std::nullopt, disk));
+  EXPECT_NO_THROW(check_job_fits(e, p, disk));
   try {
-    check_job_fits(e, p, std::nullopt, disk - 1);
+    check_job_fits(e, p, disk - 1);
     FAIL() << "a job one byte larger than the disk was accepted";
   } catch (const Error& err) {
     EXPECT_NE(std::string(err.what()).find("trivox-estimate-refusal"), std::string::npos) << err.what();
@@ -230,9 +233,11 @@ TEST(JobEstimate, RefusesStackOutputsTheDiskOrMemoryCannotTake) {
   EXPECT_GT(e.scratch_bytes, 1u);
   // The plain job's peak as the limit: it just fits; the grids put the other over it.
   const std::uint64_t limit = q.peak_memory_bytes;
-  EXPECT_NO_THROW(check_job_fits(q, plain, limit, std::nullopt));
+  plain.memory_limit_bytes = limit;
+  p.memory_limit_bytes = limit;
+  EXPECT_NO_THROW(check_job_fits(q, plain, std::nullopt));
   try {
-    check_job_fits(e, p, limit, std::nullopt);
+    check_job_fits(e, p, std::nullopt);
     FAIL() << "the OpenVDB grids were not counted against the memory limit";
   } catch (const Error& err) {
     EXPECT_NE(std::string(err.what()).find("for the stack outputs"), std::string::npos) << err.what();

@@ -1,4 +1,4 @@
-#include "trivox/slice/job_estimate.h"
+#include "trivox/job/job_estimate.h"
 
 #include <sys/resource.h>
 #include <sys/statvfs.h>
@@ -62,7 +62,9 @@ std::uint64_t stats_json_bytes(const Slicer& slicer, const JobEstimate& e, int f
     s.z_mm = slicer.layout().z_of_layer(first + index);
     stats.layers.push_back(std::move(s));
   }
-  const std::filesystem::path path = scratch / "stats.json";
+  stats.total = sum_layer_stats(stats.layers, static_cast<std::size_t>(slicer.scene().num_materials()),
+                                slicer.scene().cells.size());
+  const std::filesystem::path path = scratch / stats_file_name(1, 1);
   write_stats_json(path, slicer, stats);
   return std::filesystem::file_size(path);
 }
@@ -133,7 +135,7 @@ JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const
 
   const int samples = std::min(ep.sample_layers, e.model_layers);
   if (samples <= 0) return e;
-  if (ep.memory_limit_bytes > 0 && e.peak_memory_bytes > ep.memory_limit_bytes) return e;
+  if (params.memory_limit_bytes.value_or(0) > 0 && e.peak_memory_bytes > *params.memory_limit_bytes) return e;
   static std::atomic<int> counter{0};
   const std::filesystem::path scratch = std::filesystem::temp_directory_path() /
                                         fmt::format("trivox-estimate-{}-{}", static_cast<long>(::getpid()), counter++);
@@ -241,12 +243,12 @@ std::optional<std::uint64_t> memory_limit_bytes() {
   return limit;
 }
 
-void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> memory_limit) {
-  check_job_fits(e, params, memory_limit, e.sampled_layers > 0 ? free_disk_bytes(params.output_dir) : std::nullopt);
+void check_job_fits(const JobEstimate& e, const JobParams& params) {
+  check_job_fits(e, params, e.sampled_layers > 0 ? free_disk_bytes(params.output_dir) : std::nullopt);
 }
 
-void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> memory_limit,
-                    std::optional<std::uint64_t> free_disk) {
+void check_job_fits(const JobEstimate& e, const JobParams& params, std::optional<std::uint64_t> free_disk) {
+  const std::optional<std::uint64_t>& memory_limit = params.memory_limit_bytes;
   if (e.sampled_layers > 0 && free_disk) {
     const std::uint64_t needed = e.output_bytes + e.scratch_bytes;
     if (needed > *free_disk) {

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <vector>
 
-#include "trivox/slice/manifest.h"
+#include "trivox/job/manifest.h"
 #include "trivox/slice/slicer.h"
 
 namespace trivox::detail {

@@ -1,4 +1,4 @@
-#include "trivox/slice/job_folder.h"
+#include "trivox/job/job_folder.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -12,6 +12,7 @@
 
 #include "trivox/error.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job_lock.h"
 #include "trivox/output/detail/bmp_image.h"
 #include "trivox/output/detail/gcvf_package.h"
 #include "trivox/output/detail/tiff_stack.h"
@@ -198,6 +199,9 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
   const auto shards = shard_manifests(dir, &count);
   if (shards.empty())
     throw Error(fmt::format("{}: no shard manifests (manifest.shard-I-of-N.json) to merge", dir.string()));
+  // Merging writes manifest.json and removes the shards' manifests: the folder is locked as
+  // for a whole job, so a shard still running (or a job started meanwhile) refuses the merge.
+  const JobFolderLock lock(dir);
   std::vector<std::string> missing;
   for (int i = 1; i <= count; ++i)
     if (!shards.count(i)) missing.push_back(std::to_string(i));

@@ -1,4 +1,4 @@
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,12 +15,12 @@
 #include "job_resume.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job_lock.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/parallel.h"
-#include "trivox/slice/job_lock.h"
-#include "trivox/slice/printed_extent.h"
 #include "trivox/version.h"
 
 namespace trivox {
@@ -467,10 +467,9 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
   write_manifest(manifest_path_, manifest_);
   manifest_written_ = true;
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const std::string stats_name =
-      params_.shard_count > 1 ? fmt::format("stats.shard-{}-of-{}.json", params_.shard_index, params_.shard_count)
-                              : std::string("stats.json");
-  write_stats_json(params_.output_dir / stats_name, slicer_, stats_);
+  stats_.total = sum_layer_stats(stats_.layers, static_cast<std::size_t>(slicer_.scene().num_materials()),
+                                 slicer_.scene().cells.size());
+  write_stats_json(params_.output_dir / stats_file_name(params_.shard_index, params_.shard_count), slicer_, stats_);
   return std::move(stats_);
 }
 

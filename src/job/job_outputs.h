@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "trivox/job/job.h"
 #include "trivox/output/detail/material_sheet.h"
 #include "trivox/output/layer_writer.h"
-#include "trivox/slice/job.h"
 
 namespace trivox::detail {
 

@@ -1,6 +1,6 @@
 // The printed extent: the box of the voxels with a material, in pixels (against a plain scan
 // of every pixel) and in millimetres (a box prints within a voxel of its size), in stats.json.
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/printed_extent.h"
 
 #include <unistd.h>
 
@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slice/slice_fixtures.h"
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox {
 namespace {

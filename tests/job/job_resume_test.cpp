@@ -13,15 +13,15 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/sha256.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
+#include "trivox/job/manifest.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
-#include "trivox/slice/manifest.h"
 
 namespace trivox {
 namespace {

@@ -1,4 +1,4 @@
-#include "trivox/slice/printed_extent.h"
+#include "trivox/job/printed_extent.h"
 
 #include <algorithm>
 #include <cstdint>

@@ -1,13 +1,14 @@
 // stats.json (FORMATS.md): the job's settings, then per layer and in total the columns of
-// the paper's Table 2 and how the pixels were settled. The counters are written by walking
-// kTraceCounterFields (slice_stats.h), so the file and the structs cannot drift apart.
+// the paper's Table 2 and how the pixels were settled. The values are written by walking
+// visit_layer_stats (slice_stats.h), so the file and the structs cannot drift apart; the
+// total is the job's one sum (JobStats::total).
 #include <algorithm>
 
 #include <nlohmann/json.hpp>
 
+#include "trivox/job/job.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/output/atomic_file.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/printed_extent.h"
 
 namespace trivox {
 
@@ -15,17 +16,8 @@ namespace {
 
 using nlohmann::json;
 
-double global_share_percent(const LayerStats& s) {
-  return s.pixels_inside > 0 ? 100.0 * static_cast<double>(s.global_calls) / static_cast<double>(s.pixels_inside) : 0.0;
-}
-
-void put_counters(json& j, const LayerStats& s) {
-  for (const TraceCounterField& f : kTraceCounterFields) j[std::string(f.name)] = s.*f.member;
-  j["global_share_percent"] = global_share_percent(s);
-  j["pixels_total"] = s.pixels_total;
-  j["pixels_inside"] = s.pixels_inside;
-  j["voxels_per_material"] = s.voxels_per_material;
-  j["pixels_per_cell"] = s.pixels_per_cell;
+void put_stats(json& j, const LayerStats& s, LayerStatsPart part) {
+  visit_layer_stats(s, part, [&j](std::string_view name, const auto& value) { j[std::string(name)] = value; });
 }
 
 // The printed extent (whole voxels with a material) beside the model's box, in mm.
@@ -51,19 +43,10 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   const Scene& scene = slicer.scene();
   const SliceLayout& L = stats.layout;
   json layers = json::array();
-  LayerStats total;
-  total.voxels_per_material.assign(static_cast<std::size_t>(scene.num_materials()), 0);
-  total.pixels_per_cell.assign(scene.cells.size(), 0);
   for (const LayerStats& s : stats.layers) {
-    json layer = {{"layer", s.layer},
-                  {"z_mm", s.z_mm},
-                  {"seconds", s.seconds},
-                  {"seconds_inverse", s.seconds_inverse},
-                  {"seconds_material", s.seconds_material},
-                  {"seconds_dither", s.seconds_dither}};
-    put_counters(layer, s);
+    json layer = json::object();
+    put_stats(layer, s, LayerStatsPart::kLayer);
     layers.push_back(std::move(layer));
-    total += s;
   }
   json materials = json::array();
   for (const MaterialDef& m : scene.materials) materials.push_back({{"name", m.name}, {"rgba", m.rgba}});
@@ -77,8 +60,8 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
                  {"interrupted", stats.interrupted},
                  {"threads", stats.threads},
                  {"seconds", stats.seconds},
-                 {"seconds_per_layer_mean", total.seconds / n}};
-  put_counters(totals, total);
+                 {"seconds_per_layer_mean", stats.total.seconds / n}};
+  put_stats(totals, stats.total, LayerStatsPart::kCounts);
   const DitherParams& d = slicer.dither_params();
   const json doc = {{"scene", scene.source},
                     {"printer",

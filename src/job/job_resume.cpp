@@ -1,4 +1,4 @@
-#include "slice/job_resume.h"
+#include "job/job_resume.h"
 
 #include <algorithm>
 #include <cmath>

@@ -15,12 +15,12 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/io/detail/sha256.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
-#include "trivox/slice/manifest.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
+#include "trivox/job/manifest.h"
 
 namespace trivox {
 namespace {

@@ -8,19 +8,18 @@
 #include <optional>
 #include <string>
 
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 namespace trivox {
 
 struct EstimateParams {
   // Model layers sliced and encoded to measure file size and time, spread evenly over the
   // job's range (fewer when the range is shorter). 0 = size and time are not estimated.
-  int sample_layers = 3;
-  // Bytes of memory the job may use (0: no limit). When the estimate of the job's memory
-  // without samples already exceeds it, no sample layer is sliced (sampled_layers is then 0),
-  // so that check_job_fits refuses a job too large for memory before any of its layers is
+  // When the estimate of the job's memory without samples already exceeds the job's memory
+  // limit (JobParams::memory_limit_bytes), no sample layer is sliced (sampled_layers is then
+  // 0), so that check_job_fits refuses a job too large for memory before any of its layers is
   // built.
-  std::uint64_t memory_limit_bytes = 0;
+  int sample_layers = 3;
 };
 
 struct JobEstimate {
@@ -54,11 +53,10 @@ std::optional<std::uint64_t> memory_limit_bytes();
 
 // Throws Error naming the folder, the estimate and the limit when the output and the spool
 // files exceed the free space of `params.output_dir` or the peak memory exceeds
-// `memory_limit` (bytes; nullopt = no memory check).
-void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::optional<std::uint64_t> memory_limit);
+// `params.memory_limit_bytes` (nullopt = no memory check).
+void check_job_fits(const JobEstimate& estimate, const JobParams& params);
 // The same against `free_disk` bytes (nullopt = no disk check) instead of a measurement.
-void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::optional<std::uint64_t> memory_limit,
-                    std::optional<std::uint64_t> free_disk);
+void check_job_fits(const JobEstimate& estimate, const JobParams& params, std::optional<std::uint64_t> free_disk);
 
 // "1.23 GB", "456 MB", "12.3 kB", "17 B" (decimal units).
 std::string byte_text(std::uint64_t bytes);

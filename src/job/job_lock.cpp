@@ -1,4 +1,4 @@
-#include "trivox/slice/job_lock.h"
+#include "trivox/job/job_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>

@@ -1,5 +1,5 @@
 // Whole jobs: files, formats, padding and determinism across thread counts.
-#include "trivox/slice/job.h"
+#include "trivox/job/job.h"
 
 #include <fstream>
 #include <iterator>
@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "slice/slice_fixtures.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/output/png_io.h"

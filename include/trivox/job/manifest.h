@@ -74,6 +74,9 @@ struct JobManifest {
 
 // The manifest's file name: "manifest.json", or "manifest.shard-I-of-N.json" for shard I of N.
 std::string manifest_file_name(int shard_index, int shard_count);
+// The statistics' file name (FORMATS.md, "stats.json"): "stats.json", or
+// "stats.shard-I-of-N.json" for shard I of N.
+std::string stats_file_name(int shard_index, int shard_count);
 
 // Whether job layer `index` (0-based) belongs to shard `shard_index` (1-based) of
 // `shard_count`: layers are dealt round-robin, index % N == I - 1, so every shard gets a

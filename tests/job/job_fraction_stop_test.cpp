@@ -10,13 +10,13 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
-#include "slice/job_fixtures.h"
+#include "job/job_fixtures.h"
 #include "trivox/error.h"
+#include "trivox/job/job.h"
+#include "trivox/job/job_folder.h"
+#include "trivox/job/manifest.h"
 #include "trivox/material/material_function.h"
 #include "trivox/scene/scene.h"
-#include "trivox/slice/job.h"
-#include "trivox/slice/job_folder.h"
-#include "trivox/slice/manifest.h"
 
 namespace trivox {
 namespace {

@@ -1,7 +1,7 @@
-// The lock of a job's output folder (include/trivox/slice/job_lock.h) in the library, as
+// The lock of a job's output folder (include/trivox/job/job_lock.h) in the library, as
 // run_slice_job and the Python API take it; tests/cli/cli_folder_lock_test.cpp runs the
 // program against it.
-#include "trivox/slice/job_lock.h"
+#include "trivox/job/job_lock.h"
 
 #include <unistd.h>
 

@@ -9,9 +9,28 @@
 #include <map>
 #include <string>
 
-#include "trivox/slice/job.h"
+#include "trivox/io/model.h"
+#include "trivox/job/job.h"
 
 namespace trivox::test {
+
+// A tube revolved from a profile in a model file ("profile.itd" beside the scene): a
+// constructed cell that slices in moments, for the construction cache's tests.
+inline constexpr const char* kRevolvedTubeScene = R"({"version": 1, "units": "mm", "printer": "j750-hm",
+ "materials": [{"name": "VeroCyan", "rgba": [20, 100, 200, 255]}],
+ "cells": [{"name": "tube",
+   "geometry": {"revolve": {"profile": {"file": "profile.itd"}, "angle_deg": 270}},
+   "material": {"kind": "constant", "fractions": {"VeroCyan": 1}}}]})";
+
+// The tube's profile: a plate from inner radius `inner` to 10 mm, 1.5 mm tall, in the xz plane.
+inline void write_tube_profile(const std::filesystem::path& path, double inner) {
+  const TensorSpline plate({KnotVector::bezier(2), KnotVector::bezier(2)}, 3,
+                           {inner, 0, 0, 10, 0, 0, inner, 0, 1.5, 10, 0, 1.5});
+  Model m;
+  m.patches.push_back({"PROFILE", 0, 0, plate});
+  std::ofstream out(path);
+  write_itd(out, m);
+}
 
 // The bytes of a file; empty when it cannot be read.
 inline std::string read_bytes(const std::filesystem::path& path) {
