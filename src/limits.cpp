@@ -20,6 +20,11 @@ std::optional<std::uint64_t> process_memory_limit_bytes() {
   return limit;
 }
 
+std::optional<std::uint64_t> memory_limit_from_mb(double megabytes) {
+  if (megabytes > 0) return static_cast<std::uint64_t>(std::min(megabytes * 1e6, 1.8e19));
+  return process_memory_limit_bytes();
+}
+
 std::int64_t mesh_triangle_limit() {
   const std::optional<std::uint64_t> memory = process_memory_limit_bytes();
   if (!memory) return kMaxMeshTriangles;

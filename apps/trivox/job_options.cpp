@@ -10,6 +10,7 @@
 #include "cli_checks.h"
 #include "cli_errors.h"
 #include "trivox/error.h"
+#include "trivox/limits.h"
 #include "trivox/output/display_colours.h"
 #include "trivox/output/layer_writer.h"
 
@@ -191,11 +192,7 @@ void warn_about_printer(const Scene& scene) {
     fmt::print(stderr, "trivox: warning: {}\n", *warning);
 }
 
-std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) {
-  // Beyond 1.8e13 MB (2^64 bytes) a limit is no limit.
-  if (o.memory_limit_mb > 0) return static_cast<std::uint64_t>(std::min(o.memory_limit_mb * 1e6, 1.8e19));
-  return memory_limit_bytes();
-}
+std::optional<std::uint64_t> memory_limit_of(const JobOptions& o) { return memory_limit_from_mb(o.memory_limit_mb); }
 
 void print_estimate(const JobEstimate& e) {
   fmt::print("  layers: {} ({} of the model, {} empty padding layers)\n", e.job_layers, e.model_layers,

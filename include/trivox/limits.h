@@ -38,6 +38,11 @@ inline constexpr std::int64_t kMeshTrimBytesPerTriangle = 400;
 // that is set; nullopt when neither is known. The budget up-front refusals measure against.
 std::optional<std::uint64_t> process_memory_limit_bytes();
 
+// A job's memory limit from a setting in MB (the program's --memory-limit, Python's
+// memory_limit_mb): that many bytes when positive (beyond 1.8e13 MB, 2^64 bytes, a limit is no
+// limit), else process_memory_limit_bytes().
+std::optional<std::uint64_t> memory_limit_from_mb(double megabytes);
+
 // Triangles one mesh file may have: kMaxMeshTriangles, lowered so that a mesh trim at its peak
 // (kMeshTrimBytesPerTriangle) takes at most half of process_memory_limit_bytes(), the other
 // half being the job's. A 3 MB 3MF that instances 20 million triangles is then refused before

@@ -25,6 +25,7 @@
 #include "trivox/error.h"
 #include "trivox/job/job_estimate.h"
 #include "trivox/job/slice_job.h"
+#include "trivox/limits.h"
 #include "trivox/output/layer_writer.h"
 
 namespace trivox::python {
@@ -123,11 +124,7 @@ std::unique_ptr<PyJob> make_job(const std::filesystem::path& output_dir, const s
   job.manifest_interval_seconds = manifest_interval_seconds;
   job.stop = &py_job->stop;
   // As `trivox slice`: the machine's memory unless a limit is given; none without checks.
-  if (checks)
-    job.memory_limit_bytes =
-        memory_limit_mb
-            ? std::optional<std::uint64_t>(static_cast<std::uint64_t>(std::min(*memory_limit_mb * 1e6, 1.8e19)))
-            : memory_limit_bytes();
+  if (checks) job.memory_limit_bytes = memory_limit_from_mb(memory_limit_mb.value_or(0.0));
   p.checks = checks;
   p.construction_cache = construction_cache;
   p.allow_empty = allow_empty;

@@ -1,6 +1,5 @@
 #include "trivox/job/job_estimate.h"
 
-#include <sys/resource.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 
@@ -229,18 +228,6 @@ std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir) {
   struct statvfs st {};
   if (::statvfs(p.c_str(), &st) != 0) return std::nullopt;
   return static_cast<std::uint64_t>(st.f_bavail) * static_cast<std::uint64_t>(st.f_frsize);
-}
-
-std::optional<std::uint64_t> memory_limit_bytes() {
-  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-  std::optional<std::uint64_t> limit;
-  if (pages > 0 && page > 0) limit = static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page);
-  struct rlimit rl {};
-  if (::getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
-    const auto as = static_cast<std::uint64_t>(rl.rlim_cur);
-    limit = limit ? std::min(*limit, as) : as;
-  }
-  return limit;
 }
 
 void check_job_fits(const JobEstimate& e, const JobParams& params) {

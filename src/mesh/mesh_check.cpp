@@ -379,10 +379,6 @@ MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params) {
   return r;
 }
 
-std::uint64_t sliced_mesh_bytes(const SlicedMesh& mesh) noexcept {
-  return sizeof(Vec3) * mesh.vertex_count() + (sizeof(SlicedMesh::Triangle) + 2 * sizeof(int)) * mesh.triangle_count();
-}
-
 std::size_t orient_consistently(const std::vector<Vec3>& vertices, std::vector<SlicedMesh::Triangle>& triangles) {
   const std::vector<EdgeUse> uses = edge_uses(triangles);
   // Neighbours across edges of exactly two triangles, with whether the two run along the edge

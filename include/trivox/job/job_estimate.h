@@ -48,9 +48,6 @@ JobEstimate estimate_job(const Slicer& slicer, const JobParams& params, const Es
 // existing parent); nullopt when statvfs fails.
 std::optional<std::uint64_t> free_disk_bytes(const std::filesystem::path& dir);
 
-// Physical memory of the machine, lowered to RLIMIT_AS when that is set; nullopt when unknown.
-std::optional<std::uint64_t> memory_limit_bytes();
-
 // Throws Error naming the folder, the estimate and the limit when the output and the spool
 // files exceed the free space of `params.output_dir` or the peak memory exceeds
 // `params.memory_limit_bytes` (nullopt = no memory check).

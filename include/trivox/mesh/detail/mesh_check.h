@@ -81,10 +81,6 @@ MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params);
 // Exposed for tests.
 bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b, double tolerance);
 
-// Bytes `mesh` holds while a job runs: its vertices, its triangles and their height buckets
-// (about two bucket entries a triangle). What a job's memory estimate counts for a mesh trim.
-std::uint64_t sliced_mesh_bytes(const SlicedMesh& mesh) noexcept;
-
 // Orientation repair: flips triangles so that every edge of exactly two triangles is run along
 // in opposite directions, component by component (triangles joined through such edges). In
 // each component the orientation that more of the triangles' area already had is kept, so a
