@@ -235,14 +235,9 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   if (!(p.thickness_mm > 0.0)) t.fail(fmt::format("{} is not > 0", p.thickness_mm));
   if (const auto v = c.find("side")) {
     const std::string& side = v->string();
-    if (side == "outside")
-      p.side = ShellSide::kOutside;
-    else if (side == "inside")
-      p.side = ShellSide::kInside;
-    else if (side == "centred" || side == "centered")
-      p.side = ShellSide::kCentred;
-    else
-      v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+    const std::optional<ShellSide> named = shell_side_from_name(side);
+    if (!named) v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+    p.side = *named;
   }
   if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   p.check = check;
