@@ -178,6 +178,12 @@ std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, Scene
 std::shared_ptr<const MaterialFunction> parse_composite(const std::string& kind, const JsonView& node,
                                                         SceneContext& ctx, const ParamBox& cell_domain);
 
+// The scene's "cells" (cell_parse.cpp): each cell's geometry placed, checked for folds, and
+// its material policy-checked, appended to scene.cells.
+void parse_cells(const JsonView& node, SceneContext& ctx, Scene& scene);
+// One "unions" entry: a cell per non-empty subset of the volumes it joins (cell_parse.cpp).
+void parse_union(const JsonView& u, SceneContext& ctx, Scene& scene);
+
 // A cell's "material", built for the cell's parametric domain (not yet policy-checked).
 std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, SceneContext& ctx,
                                                        const ParamBox& cell_domain);
