@@ -39,6 +39,15 @@ DEFAULT_ROOTS = ("src", "python/src")
 IDENT_CHAR = re.compile(r"[0-9A-Za-z_]")
 
 
+def literal_end(text, i):
+    """The offset of the quote that closes the literal whose opening quote is at i (or of the
+    end of the line or text, for one left open)."""
+    j = i + 1
+    while j < len(text) and text[j] != text[i] and text[j] != "\n":
+        j += 2 if text[j] == "\\" else 1
+    return j
+
+
 def blank(text):
     """The text with comments, literals and preprocessor lines replaced by spaces.
 
@@ -105,9 +114,7 @@ def blank(text):
                     wipe(i + 1, end - 1)
                     i = end
                     continue
-            j = i + 1
-            while j < n and text[j] != '"' and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
+            j = literal_end(text, i)
             wipe(i + 1, min(j, n))
             i = j + 1
             continue
@@ -120,9 +127,7 @@ def blank(text):
             if k < i and text[k].isdigit():
                 i += 1
                 continue
-            j = i + 1
-            while j < n and text[j] != "'" and text[j] != "\n":
-                j += 2 if text[j] == "\\" else 1
+            j = literal_end(text, i)
             wipe(i + 1, min(j, n))
             i = j + 1
             continue

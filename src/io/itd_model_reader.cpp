@@ -21,12 +21,8 @@ void ItdParser::parse_model(const Token& open) {
   model.source_line = open.line;
   const int num_surfaces = read_int(where, "number of trimmed surfaces", 0, 10'000'000);
   const int num_segments = read_int(where, "number of trimming segments", 0, 10'000'000);
-  for (;;) {
-    const Token t = tok_.next();
-    if (t.is_close()) break;
-    if (t.is_end()) fail_eof(where, open);
-    if (!t.is_open())
-      fail(t.line, where, fmt::format("unexpected {} in the MODEL: expected '[' or ']'", itd::describe(t)));
+  while (const std::optional<Token> next = next_group(open, where, " in the MODEL")) {
+    const Token& t = *next;
     const Token k = tok_.peek();
     if (k.is_keyword("MDLTSRF")) {
       tok_.next();
@@ -75,11 +71,8 @@ void ItdParser::parse_model_surface(const Token& open, TrimmedModel& model, cons
   TrimmedModel::Surface srf;
   srf.source_line = open.line;
   const int num_loops = read_int(here, "number of loops", 0, 10'000'000);
-  for (;;) {
-    const Token t = tok_.next();
-    if (t.is_close()) break;
-    if (t.is_end()) fail_eof(here, open);
-    if (!t.is_open()) fail(t.line, here, fmt::format("unexpected {}: expected '[' or ']'", itd::describe(t)));
+  while (const std::optional<Token> next = next_group(open, here, "")) {
+    const Token& t = *next;
     const Token k = tok_.peek();
     if (k.is_keyword("SURFACE")) {
       tok_.next();
@@ -127,11 +120,8 @@ void ItdParser::parse_model_segment(const Token& open, TrimmedModel& model, cons
   if ((mask & 2) && second == 0) fail(open.line, here, "the curve mask has a curve in the second surface, which is 0");
   std::vector<TensorSpline> curves;
   std::vector<int> lines;
-  for (;;) {
-    const Token t = tok_.next();
-    if (t.is_close()) break;
-    if (t.is_end()) fail_eof(here, open);
-    if (!t.is_open()) fail(t.line, here, fmt::format("unexpected {}: expected '[' or ']'", itd::describe(t)));
+  while (const std::optional<Token> next = next_group(open, here, "")) {
+    const Token& t = *next;
     const Token k = tok_.peek();
     if (k.is_keyword("CURVE")) {
       tok_.next();

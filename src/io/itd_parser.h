@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -56,6 +57,9 @@ class ItdParser {
   void parse_model_surface(const Token& open, TrimmedModel& model, const std::string& where);
   void parse_model_segment(const Token& open, TrimmedModel& model, const std::string& where);
   void skip_group(const Token& open);
+  // The next '[' in the body of the group `open` opened, or nothing at its ']'; fails at the
+  // end of the file or on anything else ("unexpected <token><in>: expected '[' or ']'").
+  std::optional<Token> next_group(const Token& open, const std::string& where, std::string_view in);
   void read_geometry(const Token& keyword, int param_dim);
   KnotVector read_knots(const std::string& where, int dir, int num_ctrl, int order);
   void read_point(const std::string& where, std::int64_t index, std::int64_t total, const PointType& pt,

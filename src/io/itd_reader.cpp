@@ -98,13 +98,8 @@ void ItdParser::parse_object(const Token& open, int depth) {
   }
   names_.push_back(name);
   const std::string where = fmt::format("object '{}'", name);
-  for (;;) {
-    const Token t = tok_.next();
-    if (t.is_close()) break;
-    if (t.is_end()) fail_eof(where, open);
-    if (!t.is_open())
-      fail(t.line, where, fmt::format("unexpected {} in the object's body: expected '[' or ']'", itd::describe(t)));
-    parse_item(t, depth);
+  while (const std::optional<Token> next = next_group(open, where, " in the object's body")) {
+    parse_item(*next, depth);
   }
   names_.pop_back();
 }
@@ -140,6 +135,14 @@ void ItdParser::skip_group(const Token& open) {
     if (t.is_close()) --depth;
     if (t.is_end()) fail_eof("", open);
   }
+}
+
+std::optional<Token> ItdParser::next_group(const Token& open, const std::string& where, std::string_view in) {
+  const Token t = tok_.next();
+  if (t.is_close()) return std::nullopt;
+  if (t.is_end()) fail_eof(where, open);
+  if (!t.is_open()) fail(t.line, where, fmt::format("unexpected {}{}: expected '[' or ']'", itd::describe(t), in));
+  return t;
 }
 
 std::string ItdParser::object_name() const {
