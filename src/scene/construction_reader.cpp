@@ -2,13 +2,9 @@
 // geometry, on its own.
 #include "trivox/scene/construction.h"
 
-#include <fstream>
-#include <iterator>
-
 #include <fmt/format.h>
 
 #include "scene/scene_parse.h"
-#include "trivox/error.h"
 
 namespace trivox {
 
@@ -21,14 +17,7 @@ Constructed parse_construction(std::string_view json_text, const std::filesystem
 }
 
 Constructed read_construction(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw IoError(fmt::format("cannot read the construction file {}: it is a directory", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("cannot open the construction file {}", path.string()));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(fmt::format("cannot read the construction file {}", path.string()));
-  return parse_construction(text, path);
+  return parse_construction(detail::read_json_file(path, "construction", "directory"), path);
 }
 
 }  // namespace trivox

@@ -31,6 +31,10 @@ namespace trivox::detail {
 // the line.
 Json parse_json_text(std::string_view text, const std::string& source);
 
+// The bytes of a JSON file (`what`: "scene", "construction"); IoError when `path` is a folder
+// (called `folder_word` in the message) or cannot be opened or read.
+std::string read_json_file(const std::filesystem::path& path, std::string_view what, std::string_view folder_word);
+
 class SceneContext {
  public:
   SceneContext(std::string source, std::filesystem::path base_dir)

@@ -87,6 +87,18 @@ class DuplicateKeyCheck {
 
 }  // namespace
 
+std::string detail::read_json_file(const std::filesystem::path& path, std::string_view what,
+                                   std::string_view folder_word) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw IoError(fmt::format("cannot read the {} file {}: it is a {}", what, path.string(), folder_word));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw IoError(fmt::format("cannot open the {} file {}", what, path.string()));
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw IoError(fmt::format("cannot read the {} file {}", what, path.string()));
+  return text;
+}
+
 Json detail::parse_json_text(std::string_view text, const std::string& source) {
   try {
     return Json::parse(text.begin(), text.end(), DuplicateKeyCheck(source));
@@ -381,14 +393,7 @@ Scene read_scene(const std::filesystem::path& path, const std::atomic<bool>* sto
 }
 
 Scene read_scene(const std::filesystem::path& path, const SceneReadOptions& options) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
-    throw IoError(fmt::format("cannot read the scene file {}: it is a folder", path.string()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw IoError(fmt::format("cannot open the scene file {}", path.string()));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw IoError(fmt::format("cannot read the scene file {}", path.string()));
-  return parse_scene(text, path, options);
+  return parse_scene(detail::read_json_file(path, "scene", "folder"), path, options);
 }
 
 }  // namespace trivox
