@@ -2,8 +2,6 @@
 // geometry, on its own.
 #include "trivox/scene/construction.h"
 
-#include <fmt/format.h>
-
 #include "scene/scene_parse.h"
 
 namespace trivox {
