@@ -48,6 +48,12 @@ py::tuple box_tuple(const ParamBox& b) {
   return py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z), py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
 }
 
+// (samples, (lo, hi) parameter box) of a region of the Jacobian check, or None when empty.
+py::object region_or_none(const JacobianRegion& region) {
+  if (region.samples == 0) return py::none();
+  return py::make_tuple(region.samples, box_tuple(region.box));
+}
+
 UntangleParams untangle_params(const py::dict& d) {
   UntangleParams p;
   for (const auto& [key, value] : d) {
@@ -92,18 +98,10 @@ void bind_report(py::module_& m) {
           [](const ConstructionReport& r) { return py::make_tuple(r.jacobian.min_det, r.jacobian.max_det); },
           "(min, max) of det J over the samples.")
       .def_property_readonly(
-          "minority_sign",
-          [](const ConstructionReport& r) -> py::object {
-            if (r.minority_sign.samples == 0) return py::none();
-            return py::make_tuple(r.minority_sign.samples, box_tuple(r.minority_sign.box));
-          },
+          "minority_sign", [](const ConstructionReport& r) { return region_or_none(r.minority_sign); },
           "(samples, (lo, hi) parameter box) where det J has the minority sign, or None.")
       .def_property_readonly(
-          "zero",
-          [](const ConstructionReport& r) -> py::object {
-            if (r.zero.samples == 0) return py::none();
-            return py::make_tuple(r.zero.samples, box_tuple(r.zero.box));
-          },
+          "zero", [](const ConstructionReport& r) { return region_or_none(r.zero); },
           "(samples, (lo, hi) parameter box) where det J is zero, or None.")
       .def_readonly("exact", &ConstructionReport::exact, "False for the approximate constructions (sweep, shell).")
       .def_readonly("approximation_error_mm", &ConstructionReport::approximation_error_mm,
