@@ -107,6 +107,10 @@ class ReleaseForBatch {
 // One Vec3 from any sequence of three numbers.
 Vec3 to_vec3(const py::handle& obj, const char* what);
 
+// Points per chunk of a batch (for_chunks): large enough that a chunk costs far more than
+// handing it to a worker, small enough to share a million points among the cores evenly.
+inline constexpr std::size_t kChunk = 4096;
+
 // Runs body(begin, end) over [0, n) in chunks, on `threads` workers (0: every core) when the
 // batch is large enough to pay for the threads, else on the calling thread. Every chunk's
 // result depends only on its own indices, so the output is the same for any thread count.

@@ -3,6 +3,7 @@
 // returning Constructed(volume, report).
 #include <array>
 #include <map>
+#include <optional>
 
 #include "bindings.h"
 #include "trivox/construct/coons.h"
@@ -47,6 +48,12 @@ py::tuple box_tuple(const ParamBox& b) {
   return py::make_tuple(py::make_tuple(b.lo.x, b.lo.y, b.lo.z), py::make_tuple(b.hi.x, b.hi.y, b.hi.z));
 }
 
+// (samples, (lo, hi) parameter box) of a region of the Jacobian check, or None when empty.
+py::object region_or_none(const JacobianRegion& region) {
+  if (region.samples == 0) return py::none();
+  return py::make_tuple(region.samples, box_tuple(region.box));
+}
+
 UntangleParams untangle_params(const py::dict& d) {
   UntangleParams p;
   for (const auto& [key, value] : d) {
@@ -66,9 +73,8 @@ UntangleParams untangle_params(const py::dict& d) {
   return p;
 }
 
-}  // namespace
-
-void bind_construct(py::module_& m) {
+// ConstructionReport, and the Constructed named tuple of a volume and its report.
+void bind_report(py::module_& m) {
   py::class_<ConstructionReport>(m, "ConstructionReport",
                                  "What a constructor reports beside its volume: the sampled Jacobian check and where "
                                  "the volume folds or degenerates, and how close an approximate construction is.")
@@ -92,18 +98,10 @@ void bind_construct(py::module_& m) {
           [](const ConstructionReport& r) { return py::make_tuple(r.jacobian.min_det, r.jacobian.max_det); },
           "(min, max) of det J over the samples.")
       .def_property_readonly(
-          "minority_sign",
-          [](const ConstructionReport& r) -> py::object {
-            if (r.minority_sign.samples == 0) return py::none();
-            return py::make_tuple(r.minority_sign.samples, box_tuple(r.minority_sign.box));
-          },
+          "minority_sign", [](const ConstructionReport& r) { return region_or_none(r.minority_sign); },
           "(samples, (lo, hi) parameter box) where det J has the minority sign, or None.")
       .def_property_readonly(
-          "zero",
-          [](const ConstructionReport& r) -> py::object {
-            if (r.zero.samples == 0) return py::none();
-            return py::make_tuple(r.zero.samples, box_tuple(r.zero.box));
-          },
+          "zero", [](const ConstructionReport& r) { return region_or_none(r.zero); },
           "(samples, (lo, hi) parameter box) where det J is zero, or None.")
       .def_readonly("exact", &ConstructionReport::exact, "False for the approximate constructions (sweep, shell).")
       .def_readonly("approximation_error_mm", &ConstructionReport::approximation_error_mm,
@@ -120,7 +118,10 @@ void bind_construct(py::module_& m) {
   g_constructed_type.inc_ref();
   g_constructed_type.attr("__doc__") = "A constructor's result: the Volume and its ConstructionReport.";
   m.attr("Constructed") = g_constructed_type;
+}
 
+// The constructors from curves and surfaces: extrude, ruled, revolve, sweep.
+void bind_sweeps(py::module_& m) {
   m.def(
       "extrude",
       [](const py::handle& surface, const py::handle& vector_mm, int jacobian_samples) {
@@ -176,6 +177,10 @@ void bind_construct(py::module_& m) {
       py::arg("initial_x") = py::none(), py::kw_only(), py::arg("jacobian_samples") = 9,
       "A planar section (a surface in z = 0) swept along a curve with twist, in a rotation-minimising frame "
       "(approximate: exact at the stations). The scene file's 'sweep'.");
+}
+
+// The constructors from faces: coons, shell, and what prepares their faces.
+void bind_face_constructors(py::module_& m) {
   m.def(
       "coons",
       [](const py::handle& faces, double edge_tolerance_relative, const py::object& untangle_settings,
@@ -230,14 +235,9 @@ void bind_construct(py::module_& m) {
          int jacobian_samples) {
         ShellParams p;
         p.thickness_mm = thickness_mm;
-        if (side == "outside")
-          p.side = ShellSide::kOutside;
-        else if (side == "inside")
-          p.side = ShellSide::kInside;
-        else if (side == "centred" || side == "centered")
-          p.side = ShellSide::kCentred;
-        else
-          throw py::value_error("side must be 'outside', 'inside' or 'centred', got '" + side + "'");
+        const std::optional<ShellSide> named = shell_side_from_name(side);
+        if (!named) throw py::value_error("side must be 'outside', 'inside' or 'centred', got '" + side + "'");
+        p.side = *named;
         p.knots_per_span = knots_per_span;
         p.check = check_params(jacobian_samples);
         const TensorSpline s = spline_of(surface);
@@ -259,6 +259,10 @@ void bind_construct(py::module_& m) {
       },
       py::arg("grid"), py::arg("edge_tolerance_relative") = JoinParams{}.edge_tolerance_relative,
       "One surface from a grid of surfaces meeting edge to edge (grid[row][column]; exact, C0 at the joints).");
+}
+
+// The untangling and the Jacobian report of any volume.
+void bind_untangle(py::module_& m) {
   m.def(
       "arrange_cube_faces",
       [](const std::vector<py::object>& surfaces, double tolerance_relative) {
@@ -304,6 +308,15 @@ void bind_construct(py::module_& m) {
       },
       py::arg("volume"), py::arg("jacobian_samples") = 9,
       "The constructors' Jacobian report of any volume: where det J folds or vanishes on a sample grid.");
+}
+
+}  // namespace
+
+void bind_construct(py::module_& m) {
+  bind_report(m);
+  bind_sweeps(m);
+  bind_face_constructors(m);
+  bind_untangle(m);
 }
 
 }  // namespace trivox::python

@@ -77,9 +77,14 @@ std::string model_text(const py::handle& items, ModelFormat format) {
   return out.str();
 }
 
-}  // namespace
+// (name, family, (r, g, b, a)) of a library material.
+py::tuple library_material_tuple(const LibraryMaterial& lm) {
+  return py::make_tuple(std::string(lm.name), std::string(lm.family),
+                        py::make_tuple(lm.rgba[0], lm.rgba[1], lm.rgba[2], lm.rgba[3]));
+}
 
-void bind_model(py::module_& m) {
+// Model files: Patch, Model, reading and writing them.
+void bind_model_files(py::module_& m) {
   py::class_<Patch>(m, "Patch", "One spline of a model file: its name, id, the line it starts on, and the spline.")
       .def_readonly("name", &Patch::name, "The object's name (IRIT) or 'Geometry id=N' (G+Smo).")
       .def_readonly("id", &Patch::id, "G+Smo's id attribute, or the patch's index.")
@@ -148,7 +153,10 @@ void bind_model(py::module_& m) {
       "G+Smo XML text of a Model or a list of Spline, Volume or Patch objects: a <Geometry> per patch and, when "
       "all have the same number of parameters, a <MultiPatch> with the interfaces found from shared faces; "
       "read_gismo_xml gives the same doubles back.");
+}
 
+// PNG images, the material library, the printer profiles and the output formats.
+void bind_images_and_printers(py::module_& m) {
   m.def(
       "read_png",
       [](const std::filesystem::path& path) {
@@ -186,9 +194,7 @@ void bind_model(py::module_& m) {
       "material_library",
       [] {
         py::list out;
-        for (const LibraryMaterial& lm : material_library())
-          out.append(py::make_tuple(std::string(lm.name), std::string(lm.family),
-                                    py::make_tuple(lm.rgba[0], lm.rgba[1], lm.rgba[2], lm.rgba[3])));
+        for (const LibraryMaterial& lm : material_library()) out.append(library_material_tuple(lm));
         return out;
       },
       "The named J750/J850 materials a scene may use without a colour: (name, family, (r, g, b, a)) each; the "
@@ -198,8 +204,7 @@ void bind_model(py::module_& m) {
       [](const std::string& name) -> py::object {
         const auto lm = find_library_material(name);
         if (!lm) return py::none();
-        return py::make_tuple(std::string(lm->name), std::string(lm->family),
-                              py::make_tuple(lm->rgba[0], lm->rgba[1], lm->rgba[2], lm->rgba[3]));
+        return library_material_tuple(*lm);
       },
       py::arg("name"), "The library material called name (ignoring case, spaces, '-' and '_'), or None.");
   m.def(
@@ -208,6 +213,13 @@ void bind_model(py::module_& m) {
   m.def("printer_profile_names", &builtin_printer_profile_names, "The built-in printer profiles' names.");
   m.def("formats", &layer_writer_names,
         "The output formats of a slicing job: voxelprint, bitmaps, legacy, tiff, vdb, gcvf, preview.");
+}
+
+}  // namespace
+
+void bind_model(py::module_& m) {
+  bind_model_files(m);
+  bind_images_and_printers(m);
 }
 
 }  // namespace trivox::python

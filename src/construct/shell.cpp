@@ -100,6 +100,13 @@ double offset_error(const TensorSpline& s, const TensorSpline& o, double d) {
 
 }  // namespace
 
+std::optional<ShellSide> shell_side_from_name(std::string_view name) noexcept {
+  if (name == "outside") return ShellSide::kOutside;
+  if (name == "inside") return ShellSide::kInside;
+  if (name == "centred" || name == "centered") return ShellSide::kCentred;
+  return std::nullopt;
+}
+
 Constructed thick_shell(const TensorSpline& surface, const ShellParams& params) {
   TensorSpline s = detail::checked_surface(surface, "shell's surface");
   if (!(params.thickness_mm > 0.0) || !std::isfinite(params.thickness_mm))

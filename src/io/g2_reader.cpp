@@ -200,12 +200,8 @@ double G2Reader::read_double(const std::string& where, const std::string& what) 
   const Token t = take(where, what);
   const auto v = io_detail::parse_double(t.text);
   if (!v) fail(t.line, where, fmt::format("expected {} (a number), found '{}'", what, t.text));
-  if (!std::isfinite(*v)) fail(t.line, where, fmt::format("{} is {}: every number must be finite", what, t.text));
-  if (std::abs(*v) > kMaxModelNumber)
-    fail(t.line, where,
-         fmt::format("{} is {}, which overflows: numbers beyond {:g} overflow the volume's derivatives and det "
-                     "J, and lose all precision beside the rest of the model",
-                     what, t.text, kMaxModelNumber));
+  if (const auto problem = io_detail::model_number_problem(*v, t.text))
+    fail(t.line, where, fmt::format("{} {}", what, *problem));
   return *v;
 }
 

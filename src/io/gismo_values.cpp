@@ -133,12 +133,7 @@ std::vector<double> XmlContext::read_ascii(pugi::xml_node node) const {
         v = parse_double(token);
       }
       if (!v) fail_at(line, node, fmt::format("'{}' is not a number", token.substr(0, 40)));
-      if (!std::isfinite(*v))
-        fail_at(line, node, fmt::format("'{}' is not finite (NaN and infinity are not allowed)", token));
-      if (std::abs(*v) > kMaxModelNumber)
-        fail_at(
-            line, node,
-            fmt::format("'{}' overflows: numbers beyond {:g} overflow in a volume's det J", token, kMaxModelNumber));
+      if (const auto problem = model_number_problem(*v, token)) fail_at(line, node, *problem);
       values.push_back(*v);
     }
   }

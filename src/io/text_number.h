@@ -4,11 +4,17 @@
 #pragma once
 
 #include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <string>
 #include <string_view>
 #include <system_error>
+
+#include <fmt/format.h>
+
+#include "trivox/limits.h"
 
 namespace trivox::io_detail {
 
@@ -41,6 +47,19 @@ inline std::optional<std::int64_t> parse_integer(std::string_view s) {
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
   if (ec != std::errc{} || end != s.data() + s.size()) return std::nullopt;
   return v;
+}
+
+// Why `v`, read as the text `text` from a model file, cannot be one of a model's numbers: not
+// finite, or beyond kMaxModelNumber (trivox/limits.h), where a volume's derivatives and det J
+// overflow; nullopt when it can. The one wording of these refusals for every model reader.
+inline std::optional<std::string> model_number_problem(double v, std::string_view text) {
+  if (!std::isfinite(v)) return fmt::format("'{}' is not finite (NaN and infinity are not allowed)", text);
+  if (std::abs(v) > kMaxModelNumber)
+    return fmt::format(
+        "'{}' overflows: numbers beyond {:g} overflow the volume's derivatives and det J, and lose all precision "
+        "beside the rest of the model",
+        text, kMaxModelNumber);
+  return std::nullopt;
 }
 
 }  // namespace trivox::io_detail

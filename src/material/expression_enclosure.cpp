@@ -131,54 +131,29 @@ ExpressionTree::Enclosure condition(const ExpressionTree::Node& n, const Arg& ar
   }
 }
 
-}  // namespace
-
-ExpressionTree::Enclosure ExpressionTree::enclose(const std::array<IV, kExpressionVariables>& vars) const {
-  return encl(root_, vars, {}, nullptr);
+// abs(t - rint(t)) with rint(t) = floor(t + 0.5), for the enclosure `t` of t: 0 at integers, 1/2
+// at half-integers, slope 1 between (its generalised gradient: between -1 and 1 times t's).
+Enclosure nearest_integer_distance(const Enclosure& t) {
+  if (!t.value.finite()) return not_differentiable(IV::undefined());
+  const auto distance = [](double x) { return std::abs(x - std::floor(x + 0.5)); };
+  const double lo = t.value.lo, hi = t.value.hi;
+  double dlo, dhi;
+  if (hi - lo >= 1.0) {
+    dlo = 0.0;
+    dhi = 0.5;
+  } else {
+    dlo = std::ceil(lo) <= hi ? 0.0 : std::min(distance(lo), distance(hi));
+    dhi = std::ceil(lo - 0.5) + 0.5 <= hi ? 0.5 : std::max(distance(lo), distance(hi));
+  }
+  Grad g;
+  for (std::size_t i = 0; i < g.size(); ++i) g[i] = detail::hull(t.gradient[i], -t.gradient[i]);
+  return {make(dlo, dhi), t.differentiable, g};
 }
 
-ExpressionTree::Enclosure ExpressionTree::enclose(const std::array<IV, kExpressionVariables>& vars,
-                                                  const Forced& forced, std::vector<std::string>* undecided) const {
-  return encl(root_, vars, forced, undecided);
-}
-
-ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, kExpressionVariables>& vars,
-                                               const Forced& forced, std::vector<std::string>* undecided) const {
-  const Node& n = nodes_[static_cast<std::size_t>(index)];
-  const std::string& name = keys_[static_cast<std::size_t>(index)];
-  if (!name.empty()) {
-    for (const auto& [k, value] : forced)
-      if (k == name) return constant(IV::point(value));
-  }
-  const auto arg = [&](std::size_t i) { return encl(n.args[i], vars, forced, undecided); };
-  if (nearest_integer_distance_[static_cast<std::size_t>(index)]) {
-    // abs(t - rint(t)) with rint(t) = floor(t + 0.5): 0 at integers, 1/2 at half-integers,
-    // slope 1 between (its generalised gradient: between -1 and 1 times t's).
-    const Node& d = nodes_[static_cast<std::size_t>(n.args[0])];
-    const Enclosure t = encl(d.args[0], vars, forced, undecided);
-    if (!t.value.finite()) return not_differentiable(IV::undefined());
-    const auto distance = [](double x) { return std::abs(x - std::floor(x + 0.5)); };
-    const double lo = t.value.lo, hi = t.value.hi;
-    double dlo, dhi;
-    if (hi - lo >= 1.0) {
-      dlo = 0.0;
-      dhi = 0.5;
-    } else {
-      dlo = std::ceil(lo) <= hi ? 0.0 : std::min(distance(lo), distance(hi));
-      dhi = std::ceil(lo - 0.5) + 0.5 <= hi ? 0.5 : std::max(distance(lo), distance(hi));
-    }
-    Grad g;
-    for (std::size_t i = 0; i < g.size(); ++i) g[i] = detail::hull(t.gradient[i], -t.gradient[i]);
-    return {make(dlo, dhi), t.differentiable, g};
-  }
-  if (!name.empty() && undecided != nullptr) {
-    // A condition: note it when it stays undecided over the box.
-    const Enclosure e = condition(n, arg);
-    if (!e.value.is_point() && std::find(undecided->begin(), undecided->end(), name) == undecided->end())
-      undecided->push_back(name);
-    return e;
-  }
-  if (!name.empty()) return condition(n, arg);
+// An operator's enclosure from its arguments' (arg(i)); the comparisons and logical operators
+// are named and enclosed by condition() before this is asked.
+template <class Arg>
+Enclosure enclose_operator(const Node& n, const std::array<IV, kExpressionVariables>& vars, const Arg& arg) {
   switch (n.op) {
     case Op::kConst: return constant(IV::point(n.value));
     case Op::kVar: {
@@ -252,18 +227,19 @@ ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, k
     }
     case Op::kFunc: break;
   }
+  return not_differentiable(IV::undefined());
+}
 
-  const Enclosure a = arg(0);
+// A function of one argument (the argument's enclosure `a`): the function's enclosure over
+// a's interval, and the chain rule with its derivative's.
+Enclosure enclose_elementary(Func func, const Enclosure& a) {
   const IV& x = a.value;
   // f(x) with derivative d over the interval: the chain rule.
   const auto chain = [&](IV value, IV d) {
     if (value.nan || d.nan) return Enclosure{value, false, {}};
     return Enclosure{value, a.differentiable, scaled(a.gradient, d)};
   };
-  if (x.nan && n.func != Func::kMin && n.func != Func::kMax && n.func != Func::kSum && n.func != Func::kAvg &&
-      n.func != Func::kAtan2)
-    return not_differentiable(IV::undefined());
-  switch (n.func) {
+  switch (func) {
     case Func::kSin: return chain(trig(x, std::numbers::pi / 2, std::sin), trig(x, 0.0, std::cos));
     case Func::kCos: return chain(trig(x, 0.0, std::cos), -trig(x, std::numbers::pi / 2, std::sin));
     case Func::kTan: {
@@ -276,11 +252,11 @@ ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, k
     case Func::kAsin:
     case Func::kAcos: {
       if (x.lo < -1.0 || x.hi > 1.0) return not_differentiable(IV::undefined());
-      const IV value = n.func == Func::kAsin ? increasing(x, [](double v) { return std::asin(v); })
-                                             : decreasing(x, [](double v) { return std::acos(v); });
+      const IV value = func == Func::kAsin ? increasing(x, [](double v) { return std::asin(v); })
+                                           : decreasing(x, [](double v) { return std::acos(v); });
       if (x.lo <= -1.0 || x.hi >= 1.0) return not_differentiable(value);
       IV d = IV::point(1.0) / increasing(IV::point(1.0) - square(x), [](double v) { return std::sqrt(v); });
-      return chain(value, n.func == Func::kAsin ? d : -d);
+      return chain(value, func == Func::kAsin ? d : -d);
     }
     case Func::kAtan:
       return chain(increasing(x, [](double v) { return std::atan(v); }), IV::point(1.0) / (IV::point(1.0) + square(x)));
@@ -319,10 +295,10 @@ ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, k
     case Func::kLog10:
     case Func::kLn: {
       if (x.lo <= 0.0) return not_differentiable(IV::undefined());
-      const double base = n.func == Func::kLog2 ? std::numbers::ln2 : n.func == Func::kLog10 ? std::numbers::ln10 : 1.0;
-      const IV value = n.func == Func::kLog2    ? increasing(x, [](double v) { return std::log2(v); })
-                       : n.func == Func::kLog10 ? increasing(x, [](double v) { return std::log10(v); })
-                                                : increasing(x, [](double v) { return std::log(v); });
+      const double base = func == Func::kLog2 ? std::numbers::ln2 : func == Func::kLog10 ? std::numbers::ln10 : 1.0;
+      const IV value = func == Func::kLog2    ? increasing(x, [](double v) { return std::log2(v); })
+                       : func == Func::kLog10 ? increasing(x, [](double v) { return std::log10(v); })
+                                              : increasing(x, [](double v) { return std::log(v); });
       return chain(value, IV::point(1.0) / (x * IV{down(base), up(base), false}));
     }
     case Func::kExp: {
@@ -359,68 +335,114 @@ ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, k
       for (std::size_t i = 0; i < g.size(); ++i) g[i] = detail::hull(a.gradient[i], -a.gradient[i]);
       return {{0.0, std::max(-x.lo, x.hi), false}, a.differentiable, g};
     }
-    case Func::kAtan2: {
-      const Enclosure b = arg(1);
-      const IV& y = x;
-      const IV& xx = b.value;
-      if (y.nan || xx.nan) return not_differentiable(IV::undefined());
-      // Off the branch cut (the negative x axis, the origin) atan2 is monotone in each
-      // variable, so its extremes over the box are at the corners.
-      const bool off_cut = xx.lo > 0.0 || y.lo > 0.0 || y.hi < 0.0;
-      if (!off_cut) return not_differentiable(IV{-std::numbers::pi, std::numbers::pi, false} + IV::point(0.0));
-      const double c[4] = {std::atan2(y.lo, xx.lo), std::atan2(y.lo, xx.hi), std::atan2(y.hi, xx.lo),
-                           std::atan2(y.hi, xx.hi)};
-      const IV value = make(std::min(std::min(c[0], c[1]), std::min(c[2], c[3])),
-                            std::max(std::max(c[0], c[1]), std::max(c[2], c[3])));
-      // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
-      const IV r2 = square(xx) + square(y);
-      Grad g;
-      for (std::size_t i = 0; i < g.size(); ++i) g[i] = (xx * a.gradient[i] - y * b.gradient[i]) / r2;
-      return {value, a.differentiable && b.differentiable, g};
-    }
-    case Func::kMin:
-    case Func::kMax:
-    case Func::kSum:
-    case Func::kAvg: {
-      std::vector<Enclosure> args{a};
-      for (std::size_t i = 1; i < n.args.size(); ++i) args.push_back(arg(i));
-      for (const Enclosure& e : args)
-        if (e.value.nan) return not_differentiable(IV::undefined());
-      if (n.func == Func::kSum || n.func == Func::kAvg) {
-        Enclosure s = args.front();
-        for (std::size_t i = 1; i < args.size(); ++i) {
-          s.value = s.value + args[i].value;
-          s.differentiable = s.differentiable && args[i].differentiable;
-          s.gradient = plus(s.gradient, args[i].gradient);
-        }
-        if (n.func == Func::kAvg) {
-          const IV count = IV::point(static_cast<double>(args.size()));
-          s.value = s.value / count;
-          s.gradient = scaled(s.gradient, IV::point(1.0) / count);
-        }
-        return s;
-      }
-      const bool is_min = n.func == Func::kMin;
-      // The value: [min of the lows, min of the highs] (max: of the lows, of the highs); the
-      // gradient: the hull of those of the arguments that can be the extreme one.
-      double lo = args.front().value.lo, hi = args.front().value.hi;
-      for (const Enclosure& e : args) {
-        lo = is_min ? std::min(lo, e.value.lo) : std::max(lo, e.value.lo);
-        hi = is_min ? std::min(hi, e.value.hi) : std::max(hi, e.value.hi);
-      }
-      Enclosure out{{lo, hi, false}, true, {}};
-      bool first = true;
-      for (const Enclosure& e : args) {
-        const bool can_be = is_min ? e.value.lo <= hi : e.value.hi >= lo;
-        if (!can_be) continue;
-        out.differentiable = out.differentiable && e.differentiable;
-        out.gradient = first ? e.gradient : hull(out.gradient, e.gradient);
-        first = false;
-      }
-      return out;
-    }
+    default: break;
   }
   return not_differentiable(IV::undefined());
+}
+
+// atan2(y, x) from the enclosures of y (`a`) and x (`b`).
+Enclosure enclose_atan2(const Enclosure& a, const Enclosure& b) {
+  const IV& y = a.value;
+  const IV& xx = b.value;
+  if (y.nan || xx.nan) return not_differentiable(IV::undefined());
+  // Off the branch cut (the negative x axis, the origin) atan2 is monotone in each
+  // variable, so its extremes over the box are at the corners.
+  const bool off_cut = xx.lo > 0.0 || y.lo > 0.0 || y.hi < 0.0;
+  if (!off_cut) return not_differentiable(IV{-std::numbers::pi, std::numbers::pi, false} + IV::point(0.0));
+  const double c[4] = {std::atan2(y.lo, xx.lo), std::atan2(y.lo, xx.hi), std::atan2(y.hi, xx.lo),
+                       std::atan2(y.hi, xx.hi)};
+  const IV value =
+      make(std::min(std::min(c[0], c[1]), std::min(c[2], c[3])), std::max(std::max(c[0], c[1]), std::max(c[2], c[3])));
+  // d atan2(y, x) = (x dy - y dx) / (x^2 + y^2)
+  const IV r2 = square(xx) + square(y);
+  Grad g;
+  for (std::size_t i = 0; i < g.size(); ++i) g[i] = (xx * a.gradient[i] - y * b.gradient[i]) / r2;
+  return {value, a.differentiable && b.differentiable, g};
+}
+
+// min, max, sum and avg of the arguments' enclosures (the first `a`, the others arg(i)).
+template <class Arg>
+Enclosure enclose_list(const Node& n, const Enclosure& a, const Arg& arg) {
+  std::vector<Enclosure> args{a};
+  for (std::size_t i = 1; i < n.args.size(); ++i) args.push_back(arg(i));
+  for (const Enclosure& e : args)
+    if (e.value.nan) return not_differentiable(IV::undefined());
+  if (n.func == Func::kSum || n.func == Func::kAvg) {
+    Enclosure s = args.front();
+    for (std::size_t i = 1; i < args.size(); ++i) {
+      s.value = s.value + args[i].value;
+      s.differentiable = s.differentiable && args[i].differentiable;
+      s.gradient = plus(s.gradient, args[i].gradient);
+    }
+    if (n.func == Func::kAvg) {
+      const IV count = IV::point(static_cast<double>(args.size()));
+      s.value = s.value / count;
+      s.gradient = scaled(s.gradient, IV::point(1.0) / count);
+    }
+    return s;
+  }
+  const bool is_min = n.func == Func::kMin;
+  // The value: [min of the lows, min of the highs] (max: of the lows, of the highs); the
+  // gradient: the hull of those of the arguments that can be the extreme one.
+  double lo = args.front().value.lo, hi = args.front().value.hi;
+  for (const Enclosure& e : args) {
+    lo = is_min ? std::min(lo, e.value.lo) : std::max(lo, e.value.lo);
+    hi = is_min ? std::min(hi, e.value.hi) : std::max(hi, e.value.hi);
+  }
+  Enclosure out{{lo, hi, false}, true, {}};
+  bool first = true;
+  for (const Enclosure& e : args) {
+    const bool can_be = is_min ? e.value.lo <= hi : e.value.hi >= lo;
+    if (!can_be) continue;
+    out.differentiable = out.differentiable && e.differentiable;
+    out.gradient = first ? e.gradient : hull(out.gradient, e.gradient);
+    first = false;
+  }
+  return out;
+}
+
+}  // namespace
+
+ExpressionTree::Enclosure ExpressionTree::enclose(const std::array<IV, kExpressionVariables>& vars) const {
+  return encl(root_, vars, {}, nullptr);
+}
+
+ExpressionTree::Enclosure ExpressionTree::enclose(const std::array<IV, kExpressionVariables>& vars,
+                                                  const Forced& forced, std::vector<std::string>* undecided) const {
+  return encl(root_, vars, forced, undecided);
+}
+
+ExpressionTree::Enclosure ExpressionTree::encl(int index, const std::array<IV, kExpressionVariables>& vars,
+                                               const Forced& forced, std::vector<std::string>* undecided) const {
+  const Node& n = nodes_[static_cast<std::size_t>(index)];
+  const std::string& name = keys_[static_cast<std::size_t>(index)];
+  if (!name.empty()) {
+    for (const auto& [k, value] : forced)
+      if (k == name) return constant(IV::point(value));
+  }
+  const auto arg = [&](std::size_t i) { return encl(n.args[i], vars, forced, undecided); };
+  if (nearest_integer_distance_[static_cast<std::size_t>(index)]) {
+    const Node& d = nodes_[static_cast<std::size_t>(n.args[0])];
+    return nearest_integer_distance(encl(d.args[0], vars, forced, undecided));
+  }
+  if (!name.empty() && undecided != nullptr) {
+    // A condition: note it when it stays undecided over the box.
+    const Enclosure e = condition(n, arg);
+    if (!e.value.is_point() && std::find(undecided->begin(), undecided->end(), name) == undecided->end())
+      undecided->push_back(name);
+    return e;
+  }
+  if (!name.empty()) return condition(n, arg);
+  if (n.op != Op::kFunc) return enclose_operator(n, vars, arg);
+  const Enclosure a = arg(0);
+  const IV& x = a.value;
+  if (x.nan && n.func != Func::kMin && n.func != Func::kMax && n.func != Func::kSum && n.func != Func::kAvg &&
+      n.func != Func::kAtan2)
+    return not_differentiable(IV::undefined());
+  if (n.func == Func::kAtan2) return enclose_atan2(a, arg(1));
+  if (n.func == Func::kMin || n.func == Func::kMax || n.func == Func::kSum || n.func == Func::kAvg)
+    return enclose_list(n, a, arg);
+  return enclose_elementary(n.func, a);
 }
 
 }  // namespace trivox::detail

@@ -125,8 +125,7 @@ void PorousTilesMaterial::bounds(const ParamBox& box, std::span<float> lo, std::
 
 FractionEnclosure PorousTilesMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
   FractionEnclosure e = MaterialFunction::enclose(box, xyz);
-  e.sum = {0.0, 0.0};
-  for (const Interval& f : e.fractions) e.sum.hi = std::max(e.sum.hi, f.hi);
+  e.sum_of_one_material();
   return e;
 }
 

@@ -112,8 +112,7 @@ void TwistingCurvesMaterial::bounds(const ParamBox&, std::span<float> lo, std::s
 
 FractionEnclosure TwistingCurvesMaterial::enclose(const ParamBox& box, const Box3& xyz) const {
   FractionEnclosure e = MaterialFunction::enclose(box, xyz);
-  e.sum = {0.0, 0.0};
-  for (const Interval& f : e.fractions) e.sum.hi = std::max(e.sum.hi, f.hi);
+  e.sum_of_one_material();
   return e;
 }
 

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "output/material_bits.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 
@@ -123,16 +124,13 @@ class MaterialBitmapWriter final : public LayerWriter {
   std::string_view name() const noexcept override { return "bitmaps"; }
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
     std::vector<std::string> files;
-    std::vector<std::uint8_t> bits(labels.values().size());
-    for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
-      const auto label = LabelImage::label_of_material(static_cast<int>(j));
-      std::transform(labels.values().begin(), labels.values().end(), bits.begin(),
-                     [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
-      std::string file =
-          fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[j]);
-      write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, png_);
-      files.push_back(std::move(file));
-    }
+    detail::for_each_material_bits(
+        labels, c_.material_names.size(), [&](std::size_t j, const std::vector<std::uint8_t>& bits) {
+          std::string file =
+              fmt::format("bitmaps/{}{}_{}.png", c_.prefix, layer_number(index, c_.total_layers), c_.material_names[j]);
+          write_png_gray1(c_.dir / file, labels.width_px(), labels.height_px(), bits, png_);
+          files.push_back(std::move(file));
+        });
     return files;
   }
 

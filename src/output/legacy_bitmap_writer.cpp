@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "output/material_bits.h"
 #include "output/stack_writers.h"
 #include "trivox/error.h"
 #include "trivox/output/atomic_file.h"
@@ -82,16 +83,13 @@ class LegacyBitmapWriter final : public LayerWriter {
 
   std::vector<std::string> write_layer(int index, const LabelImage& labels) const override {
     std::vector<std::string> files;
-    std::vector<std::uint8_t> bits(labels.values().size());
-    for (std::size_t j = 0; j < c_.material_names.size(); ++j) {
-      const auto label = LabelImage::label_of_material(static_cast<int>(j));
-      std::transform(labels.values().begin(), labels.values().end(), bits.begin(),
-                     [&](std::uint8_t l) { return static_cast<std::uint8_t>(l == label ? 1 : 0); });
-      const std::string file = file_name(index, j);
-      write_file_atomic(c_.dir / file,
-                        encode_bmp1(labels.width_px(), labels.height_px(), bits.data(), c_.pitch_x_mm, c_.pitch_y_mm));
-      files.push_back(file);
-    }
+    detail::for_each_material_bits(
+        labels, c_.material_names.size(), [&](std::size_t j, const std::vector<std::uint8_t>& bits) {
+          const std::string file = file_name(index, j);
+          write_file_atomic(c_.dir / file, encode_bmp1(labels.width_px(), labels.height_px(), bits.data(),
+                                                       c_.pitch_x_mm, c_.pitch_y_mm));
+          files.push_back(file);
+        });
     return files;
   }
 

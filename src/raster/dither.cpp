@@ -129,6 +129,46 @@ InsideSpan inside_span(const std::uint8_t* mask, int width) noexcept {
   return {first, last};
 }
 
+// Diffuses the error e of the pixel at x (its row's direction `dir`) to the taps of Kernel
+// that are inside: error_rows[r] and mask_rows[r] are the error and mask rows r below
+// (mask_rows[r] null past the last row).
+template <class Kernel>
+[[gnu::always_inline]] inline void diffuse(const std::int32_t* e, std::size_t num_components, int x, int dir, int width,
+                                           std::int32_t* const* error_rows, const std::uint8_t* const* mask_rows) {
+  constexpr auto& taps = Kernel::kTaps;
+  constexpr int kNumTaps = static_cast<int>(taps.size());
+  // Inside the part, every tap receives: the receivers then follow from x alone, so the
+  // common case is decided first and its pointers stay in registers.
+  bool all_receive = true;
+  for (const detail::DiffusionTap& tap : taps) {
+    const int nx = x + dir * tap.dx;
+    const std::uint8_t* mask_row = mask_rows[tap.dy];
+    all_receive = all_receive && nx >= 0 && nx < width && mask_row != nullptr && mask_row[nx] != 0;
+  }
+  if (all_receive) {
+    std::int32_t* to[kNumTaps];
+    for (int t = 0; t < kNumTaps; ++t)
+      to[t] = error_rows[taps[static_cast<std::size_t>(t)].dy] +
+              static_cast<std::size_t>(x + dir * taps[static_cast<std::size_t>(t)].dx) * num_components;
+    spread_all<Kernel>(e, num_components, to);
+    return;
+  }
+  std::int32_t* to[kNumTaps];
+  std::int32_t weights[kNumTaps];
+  int count = 0;
+  std::int32_t weight_sum = 0;
+  for (const detail::DiffusionTap& tap : taps) {
+    const int nx = x + dir * tap.dx;
+    const std::uint8_t* mask_row = mask_rows[tap.dy];
+    if (nx < 0 || nx >= width || mask_row == nullptr || mask_row[nx] == 0) continue;
+    to[count] = error_rows[tap.dy] + static_cast<std::size_t>(nx) * num_components;
+    weights[count] = tap.weight;
+    weight_sum += tap.weight;
+    ++count;
+  }
+  if (count > 0) spread(e, num_components, to, weights, count, weight_sum);
+}
+
 // Error rows live in a ring of Kernel::kRows rows, each width_px * (m + 1) int32: row y + r
 // is slot (y + r) % kRows. After row y is done its slot is cleared and becomes row
 // y + kRows.
@@ -140,8 +180,6 @@ InsideSpan inside_span(const std::uint8_t* mask, int width) noexcept {
 template <class Kernel, std::size_t kComponents>
 void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool serpentine,
                  detail::ScanOrientation orientation, bool tie_break, int layer, LabelImage& labels) {
-  constexpr auto& taps = Kernel::kTaps;
-  constexpr int kNumTaps = static_cast<int>(taps.size());
   constexpr int kRows = Kernel::kRows;
 
   const int width = fractions.width_px();
@@ -226,36 +264,7 @@ void dither_with(const MaterialGrid& fractions, const InsideMask& inside, bool s
       for (std::size_t c = 0; c < num_components; ++c) any_error |= e[c];
       if (any_error == 0) continue;
 
-      // Inside the part, every tap receives: the receivers then follow from x alone, so the
-      // common case is decided first and its pointers stay in registers.
-      bool all_receive = true;
-      for (const detail::DiffusionTap& tap : taps) {
-        const int nx = x + dir * tap.dx;
-        const std::uint8_t* mask_row = mask_rows[tap.dy];
-        all_receive = all_receive && nx >= 0 && nx < width && mask_row != nullptr && mask_row[nx] != 0;
-      }
-      if (all_receive) {
-        std::int32_t* to[kNumTaps];
-        for (int t = 0; t < kNumTaps; ++t)
-          to[t] = error_rows[taps[static_cast<std::size_t>(t)].dy] +
-                  static_cast<std::size_t>(x + dir * taps[static_cast<std::size_t>(t)].dx) * num_components;
-        spread_all<Kernel>(e, num_components, to);
-        continue;
-      }
-      std::int32_t* to[kNumTaps];
-      std::int32_t weights[kNumTaps];
-      int count = 0;
-      std::int32_t weight_sum = 0;
-      for (const detail::DiffusionTap& tap : taps) {
-        const int nx = x + dir * tap.dx;
-        const std::uint8_t* mask_row = mask_rows[tap.dy];
-        if (nx < 0 || nx >= width || mask_row == nullptr || mask_row[nx] == 0) continue;
-        to[count] = error_rows[tap.dy] + static_cast<std::size_t>(nx) * num_components;
-        weights[count] = tap.weight;
-        weight_sum += tap.weight;
-        ++count;
-      }
-      if (count > 0) spread(e, num_components, to, weights, count, weight_sum);
+      diffuse<Kernel>(e, num_components, x, dir, width, error_rows, mask_rows);
     }
     std::fill(error_rows[0] + static_cast<std::size_t>(span.first) * num_components,
               error_rows[0] + static_cast<std::size_t>(span.last + 1) * num_components, 0);

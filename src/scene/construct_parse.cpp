@@ -265,14 +265,9 @@ Constructed build(std::string_view kind, const JsonView& c, SceneContext& ctx) {
   if (!(p.thickness_mm > 0.0)) t.fail(fmt::format("{} is not > 0", p.thickness_mm));
   if (const auto v = c.find("side")) {
     const std::string& side = v->string();
-    if (side == "outside")
-      p.side = ShellSide::kOutside;
-    else if (side == "inside")
-      p.side = ShellSide::kInside;
-    else if (side == "centred" || side == "centered")
-      p.side = ShellSide::kCentred;
-    else
-      v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+    const std::optional<ShellSide> named = shell_side_from_name(side);
+    if (!named) v->fail(fmt::format("expected \"outside\", \"inside\" or \"centred\", got \"{}\"", side));
+    p.side = *named;
   }
   if (const auto v = c.find("knots_per_span")) p.knots_per_span = v->integer_in(0, 8);
   p.check = check;
@@ -349,17 +344,24 @@ bool is_constructed_geometry(const JsonView& node) {
   return false;
 }
 
-void refuse_without_interior(const Volume& volume, const JacobianReport& jacobian, const std::string& what,
-                             const JsonView& geometry, double pixel_mm) {
-  if (jacobian.zero != jacobian.positive + jacobian.negative + jacobian.zero) return;
+JacobianReport checked_jacobian(const Volume& volume, const std::string& what, const JsonView& geometry,
+                                double pixel_mm) {
+  JacobianReport jacobian;
+  try {
+    jacobian = check_jacobian(volume);
+  } catch (const ModelError& e) {
+    geometry.fail(fmt::format("{}: {}", what, e.what()));
+  }
+  if (jacobian.zero != jacobian.positive + jacobian.negative + jacobian.zero) return jacobian;
   const Box3 box = volume.bounds();
   const double far = std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.hi.x),
                                std::abs(box.hi.y), std::abs(box.hi.z)});
-  if (!(far * std::numeric_limits<double>::epsilon() <= 1e-3 * pixel_mm)) return;
+  if (!(far * std::numeric_limits<double>::epsilon() <= 1e-3 * pixel_mm)) return jacobian;
   geometry.fail(
       fmt::format("{} has no interior: det J vanishes at all {} samples (a direction of order 1, or "
                   "control points all on one plane, line or point), so it holds no voxel",
                   what, jacobian.zero));
+  return jacobian;
 }
 
 bool geometry_allows_fold(const JsonView& geometry) {

@@ -31,6 +31,10 @@ namespace trivox::detail {
 // the line.
 Json parse_json_text(std::string_view text, const std::string& source);
 
+// The bytes of a JSON file (`what`: "scene", "construction"); IoError when `path` is a folder
+// (called `folder_word` in the message) or cannot be opened or read.
+std::string read_json_file(const std::filesystem::path& path, std::string_view what, std::string_view folder_word);
+
 class SceneContext {
  public:
   SceneContext(std::string source, std::filesystem::path base_dir)
@@ -113,12 +117,13 @@ bool is_constructed_geometry(const JsonView& node);
 // file's "file" and "patch": the user accepts a volume that folds over itself, sliced by the
 // fold rules (docs/SCENE.md, "Folded cells").
 bool geometry_allows_fold(const JsonView& geometry);
-// Fails on `geometry` when the sampled det J of `volume` (a cell or named volume called
-// `what`) vanishes at every sample: it has no interior and can own no voxel. Where the
+// The sampled Jacobian check of `volume` (a cell or named volume called `what`), failing on
+// `geometry` when its numbers overflow (det J infinite or NaN: check_jacobian's ModelError) or
+// when det J vanishes at every sample: it has no interior and can own no voxel. Where the
 // volume lies too far from the origin for a double to resolve a thousandth of `pixel_mm`, its
 // control points may have merged by rounding alone; the slicer refuses that with its reason.
-void refuse_without_interior(const Volume& volume, const JacobianReport& jacobian, const std::string& what,
-                             const JsonView& geometry, double pixel_mm);
+JacobianReport checked_jacobian(const Volume& volume, const std::string& what, const JsonView& geometry,
+                                double pixel_mm);
 // The volume a constructor builds, with its report; fails naming the field when an input is
 // wrong (a fold is in the report, not an error).
 Constructed parse_construction(const JsonView& node, SceneContext& ctx);
@@ -177,6 +182,12 @@ std::shared_ptr<const MaterialFunction> parse_scalar(const JsonView& node, Scene
 // (composite_parse.cpp); nullptr for another kind.
 std::shared_ptr<const MaterialFunction> parse_composite(const std::string& kind, const JsonView& node,
                                                         SceneContext& ctx, const ParamBox& cell_domain);
+
+// The scene's "cells" (cell_parse.cpp): each cell's geometry placed, checked for folds, and
+// its material policy-checked, appended to scene.cells.
+void parse_cells(const JsonView& node, SceneContext& ctx, Scene& scene);
+// One "unions" entry: a cell per non-empty subset of the volumes it joins (cell_parse.cpp).
+void parse_union(const JsonView& u, SceneContext& ctx, Scene& scene);
 
 // A cell's "material", built for the cell's parametric domain (not yet policy-checked).
 std::shared_ptr<const MaterialFunction> parse_material(const JsonView& node, SceneContext& ctx,

@@ -31,8 +31,8 @@ std::vector<SceneVolume> parse_volumes(const JsonView& node, SceneContext& ctx) 
                             parts.size()));
     Volume v = std::move(parts.front().volume);
     if (const auto p = e.find("placement")) v = parse_and_apply_placement(*p, v);
-    const JacobianReport jacobian = check_jacobian(v);
-    refuse_without_interior(v, jacobian, fmt::format("volume '{}'", name.string()), e.at("geometry"), ctx.pixel_mm());
+    const JacobianReport jacobian =
+        checked_jacobian(v, fmt::format("volume '{}'", name.string()), e.at("geometry"), ctx.pixel_mm());
     const bool folds = jacobian.classification == JacobianClass::kFolded;
     if (folds && !geometry_allows_fold(e.at("geometry")))
       e.at("geometry")

@@ -26,13 +26,6 @@ std::string_view to_string(TrimKind k) noexcept {
 
 namespace {
 
-Vec3 eval(const TensorSpline& s, double a, double b) {
-  const double t[2] = {a, b};
-  double p[3];
-  s.evaluate(t, p);
-  return {p[0], p[1], p[2]};
-}
-
 double sample(double lo, double hi, int i, int n) { return i == n - 1 ? hi : lo + (hi - lo) * i / (n - 1); }
 
 using Map = std::function<Vec3(Vec3)>;
@@ -47,20 +40,21 @@ std::pair<double, double> deviation(const TensorSpline& s, int n, const Map* map
   const double a0 = s.lo(0), a1 = s.hi(0), b0 = s.lo(1), b1 = s.hi(1);
   for (int i = 0; i < n; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    prev[k] = eval(s, sample(a0, a1, i, n), b0);
+    prev[k] = detail::surface_point(s, sample(a0, a1, i, n), b0);
     if (map) prev_m[k] = (*map)(prev[k]);
   }
   for (int j = 1; j < n; ++j) {
     const double tb = sample(b0, b1, j, n), tb_prev = sample(b0, b1, j - 1, n);
     for (int i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      cur[k] = eval(s, sample(a0, a1, i, n), tb);
+      cur[k] = detail::surface_point(s, sample(a0, a1, i, n), tb);
       if (map) cur_m[k] = (*map)(cur[k]);
     }
     for (int i = 1; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
       const Vec3 bilinear = 0.25 * (prev[k - 1] + prev[k] + cur[k - 1] + cur[k]);
-      const Vec3 centre = eval(s, 0.5 * (sample(a0, a1, i - 1, n) + sample(a0, a1, i, n)), 0.5 * (tb_prev + tb));
+      const Vec3 centre =
+          detail::surface_point(s, 0.5 * (sample(a0, a1, i - 1, n) + sample(a0, a1, i, n)), 0.5 * (tb_prev + tb));
       // The triangles split the cell along its (k-1, j-1)-(k, j) diagonal: a twisted cell
       // can match its bilinear patch at the centre and miss the triangles, so the diagonal's
       // midpoint is checked too.
@@ -146,7 +140,7 @@ ShellMesh::ShellMesh(const TrimShell& shell, double tolerance, const std::functi
   for (const TensorSpline& s : shell.surfaces)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
-        const Vec3 p = eval(s, sample(s.lo(0), s.hi(0), i, n), sample(s.lo(1), s.hi(1), j, n));
+        const Vec3 p = detail::surface_point(s, sample(s.lo(0), s.hi(0), i, n), sample(s.lo(1), s.hi(1), j, n));
         raw.push_back(p);
         bounds.expand(p);
       }

@@ -12,13 +12,6 @@ namespace trivox::detail {
 
 namespace {
 
-Vec3 eval_surface(const TensorSpline& s, double a, double b) {
-  const double t[2] = {a, b};
-  double p[3];
-  s.evaluate(t, p);
-  return {p[0], p[1], p[2]};
-}
-
 // A trimming curve as a polyline in (u, v): its control points when it is piecewise linear
 // (order 2, IRIT's usual trimming curves), else 8 samples per knot span.
 std::vector<Vec3> curve_polyline(const TensorSpline& c) {
@@ -127,7 +120,7 @@ void tessellate_trimmed(const TrimmedSurface& s, int n, std::vector<Vec3>& verti
     }
   }
   auto add = [&](const Vec3& p) {
-    vertices.push_back(eval_surface(s.surface, p.x, p.y));
+    vertices.push_back(surface_point(s.surface, p.x, p.y));
     return static_cast<int>(vertices.size()) - 1;
   };
   auto add_fan = [&](const std::vector<Vec3>& poly) {
@@ -180,7 +173,7 @@ double check_trimmed_closed(const TrimShell& shell, double gap) {
           const double t[1] = {piece.curve.lo(0) + (piece.curve.hi(0) - piece.curve.lo(0)) * k / (kSamples - 1)};
           double uv[2];
           piece.curve.evaluate(t, uv);
-          use.points.push_back(eval_surface(s.surface, uv[0], uv[1]));
+          use.points.push_back(surface_point(s.surface, uv[0], uv[1]));
         }
         uses[piece.segment].push_back(std::move(use));
       }

@@ -10,6 +10,14 @@
 
 namespace trivox::detail {
 
+// The point S(a, b) of a surface with 3D points.
+inline Vec3 surface_point(const TensorSpline& s, double a, double b) {
+  const double t[2] = {a, b};
+  double p[3];
+  s.evaluate(t, p);
+  return {p[0], p[1], p[2]};
+}
+
 // The loops of a trimmed surface as closed polygons in its (u, v) (x, y of each point; z 0).
 // Throws ModelError naming the surface when a loop does not close.
 std::vector<std::vector<Vec3>> trim_loops(const TrimmedSurface& s);

@@ -10,6 +10,7 @@
 #include "trivox/construct/untangle.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
+#include "trivox/simd.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/refine.h"
 
@@ -192,6 +193,24 @@ TEST(Untangle, FastUntanglingIsTheReferenceBitForBit) {
   expect_untangle_as_reference(scattered_mixed_orders(), p);
   for (int threads : {1, 3}) {
     p.threads = threads;
+    expect_untangle_as_reference(scattered_mixed_orders(), p);
+  }
+}
+
+// The fast dets run on the SIMD target chosen (untangle_kernels.cpp); each lane repeats the
+// reference's operations and nothing is fused, so every target gives the reference's volume.
+TEST(Untangle, EverySimdTargetGivesTheReferencesVolume) {
+  struct BestTargetAfterwards {
+    ~BestTargetAfterwards() { use_simd_target("best"); }
+  } restore;
+  UntangleParams p;
+  p.samples_per_span = 2;
+  p.iterations = 40;
+  p.target_relative = 0.2;
+  for (const std::string& target : simd_targets()) {
+    SCOPED_TRACE(target);
+    use_simd_target(target);
+    expect_untangle_as_reference(folded_cube(), {});
     expect_untangle_as_reference(scattered_mixed_orders(), p);
   }
 }

@@ -6,6 +6,9 @@
 // grid between them. Offsets of concentric circles and of planes are reproduced exactly.
 #pragma once
 
+#include <optional>
+#include <string_view>
+
 #include "trivox/construct/report.h"
 #include "trivox/spline/tensor_spline.h"
 
@@ -16,6 +19,10 @@ enum class ShellSide {
   kInside,   // from S - thickness n (w = 0) to S (w = 1)
   kCentred,  // from S - thickness/2 n to S + thickness/2 n
 };
+
+// The side a scene file's "side" or the Python module's `side` names: "outside", "inside",
+// "centred" (or "centered"); nothing for any other name (the caller says what it expected).
+std::optional<ShellSide> shell_side_from_name(std::string_view name) noexcept;
 
 struct ShellParams {
   double thickness_mm = 1.0;  // > 0

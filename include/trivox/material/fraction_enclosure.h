@@ -36,6 +36,13 @@ struct FractionEnclosure {
 
   // m materials, nothing known: every interval everything, not finite.
   static FractionEnclosure unknown(int num_materials);
+
+  // For a kind that gives each point one whole material or void (porous tiles, twisting
+  // curves): the sum is 0 or one of the fractions, so it lies in [0, the largest upper end].
+  void sum_of_one_material() noexcept {
+    sum = {0.0, 0.0};
+    for (const Interval& f : fractions) sum.hi = std::max(sum.hi, f.hi);
+  }
 };
 
 }  // namespace trivox
