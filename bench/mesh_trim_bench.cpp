@@ -12,8 +12,8 @@
 //  * end to end: Slicer::slice_layer on one thread (outlines, inversion, material, dithering)
 //    of the box untrimmed, trimmed by the even-odd rule and trimmed by the winding-number
 //    rule; the trim's cost per inside pixel is the difference of the medians over the pixels;
-//  * the trim's own steps, as the slicer runs them (slice_layer.cpp, cut_trimming_shells and
-//    narrow_to_model_space_clauses): the cut of the mesh by the layer's plane, its crossings
+//  * the trim's own steps, as the slicer runs them (cut_trimming_shells in layer_decision.cpp,
+//    narrow_to_model_space_clauses in layer_candidates.cpp): the cut of the mesh by the layer's plane, its crossings
 //    per row and the stretches of each row inside, timed alone, per inside pixel; and the
 //    same with the even-odd test at every pixel instead.
 #include <algorithm>

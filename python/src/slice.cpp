@@ -57,11 +57,9 @@ py::dict slice_one(const PySlicer& s, int layer, bool fractions, bool owner) {
     throw py::index_error("layer " + std::to_string(layer) + " is out of range: the scene has " +
                           std::to_string(L.num_layers) + " layers (0 to " + std::to_string(L.num_layers - 1) + ")");
   LayerResult r;
-  std::vector<int> owners;
-  LayerRasters rasters;
   {
     py::gil_scoped_release release;
-    r = s.slicer->slice_layer(layer, owner ? &owners : nullptr, fractions ? &rasters : nullptr);
+    r = s.slicer->slice_layer(layer, {.owner = owner, .rasters = fractions});
   }
   const py::ssize_t h = L.height_px, w = L.width_px;
   py::dict out;
@@ -69,12 +67,12 @@ py::dict slice_one(const PySlicer& s, int layer, bool fractions, bool owner) {
   out["labels"] = owned_array<std::uint8_t>(std::move(r.labels), values_of, {h, w});
   out["stats"] = stats_dict(r.stats);
   if (fractions) {
-    const py::ssize_t m = rasters.fractions.num_materials();
-    out["fractions"] = owned_array<float>(std::move(rasters.fractions), values_of, {h, w, m});
-    out["inside"] = owned_array<std::uint8_t>(std::move(rasters.inside), values_of, {h, w});
+    const py::ssize_t m = r.rasters.fractions.num_materials();
+    out["fractions"] = owned_array<float>(std::move(r.rasters.fractions), values_of, {h, w, m});
+    out["inside"] = owned_array<std::uint8_t>(std::move(r.rasters.inside), values_of, {h, w});
   }
   if (owner) {
-    out["owner"] = owned_array<int>(std::move(owners), [](const std::vector<int>& v) { return v.data(); }, {h, w});
+    out["owner"] = owned_array<int>(std::move(r.owner), [](const std::vector<int>& v) { return v.data(); }, {h, w});
   }
   return out;
 }

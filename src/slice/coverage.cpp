@@ -14,24 +14,6 @@
 
 namespace trivox::detail {
 
-void grey_source_row(const MaterialFunction& source, const TracedRow& row, std::span<const float> fractions, int m,
-                     int r, int width_px, std::span<float> values, std::vector<float>& scratch) {
-  const std::size_t n = row.cols.size();
-  if (n == 0) return;
-  if (scratch.size() < n) scratch.resize(n);
-  source.evaluate_row(row.uvw, row.xyz, std::span<float>(scratch).first(n));
-  const auto mm = static_cast<std::size_t>(m);
-  for (std::size_t k = 0; k < n; ++k) {
-    float sum = 0.0f;
-    for (std::size_t j = 0; j < mm; ++j) sum += fractions[k * mm + j];
-    // Only where the cell gives material, as the grid is written: a later cell with material
-    // overwrites, a later void one does not.
-    if (sum > 0.0f)
-      values[static_cast<std::size_t>(r) * static_cast<std::size_t>(width_px) + static_cast<std::size_t>(row.cols[k])] =
-          scratch[k];
-  }
-}
-
 GreyImage grey_from_grid(const MaterialGrid& grid, const std::vector<std::pair<int, int>>& written,
                          const GreyscaleDef& greyscale, std::span<const float> values) {
   GreyImage grey(grid.width_px(), grid.height_px(), 0);
@@ -54,33 +36,29 @@ GreyImage grey_from_grid(const MaterialGrid& grid, const std::vector<std::pair<i
   return grey;
 }
 
-struct EdgeCoverage::Trivariate {
-  const Volume* volume;
-  SlicedMesh mesh;  // the outline mesh at the sub-sample grid's tolerance (boundary_mesh.h)
-  GlobalSolver solver;
+std::unique_ptr<LayerDecision> coverage_decision(const Scene& scene, const SliceParams& params,
+                                                 const SliceLayout& grid) {
+  LayerDecision::Setup setup;
+  // As the slicer's outlines are to the pixels (an eighth of the finest pitch), so these are
+  // to the points of `grid`.
+  setup.outline_tolerance_mm = 0.125 * std::min({grid.pitch_x_mm, grid.pitch_y_mm, grid.layer_mm});
+  setup.shell_tolerance_mm = 0.5 * setup.outline_tolerance_mm;
+  setup.honour_folds = false;
+  setup.band_from_deviation = false;
+  setup.trace_all_first = true;
+  setup.outline_every_parametric = true;
+  setup.shells_within_budget = false;
+  auto decision = std::make_unique<LayerDecision>(scene, params, setup);
   // Within a fixed budget (as the slicer's outline meshes are within theirs); a mesh the
   // budget cuts short is accepted here: a sub-sample it misjudges near the edge moves an
   // edge pixel's grey level by one sub-sample.
-  Trivariate(const Volume& v, double tolerance_mm, const std::atomic<bool>* stop)
-      : volume(&v), mesh(build_boundary_mesh(v, tolerance_mm, std::int64_t{1} << 22, stop).mesh), solver(v) {}
-};
-
-struct EdgeCoverage::CellData {
-  struct Clause {
-    TrimKind kind;
-    TrimSide side;
-    int trivariate = -1;                       // kVolume
-    std::shared_ptr<const ShellMesh> mesh;     // kShell (model space), kParametric (u, v, w)
-    std::shared_ptr<const ShellMesh> outline;  // kParametric: mesh mapped through the cell's volume
-    int shell_slot = -1;                       // kShell
-  };
-  const Cell* cell = nullptr;
-  int trivariate = -1;
-  std::vector<Clause> clauses;
-};
+  decision->build_meshes(std::vector<std::int64_t>(decision->trivariates().size(), std::int64_t{1} << 22));
+  decision->set_layout(grid);
+  return decision;
+}
 
 EdgeCoverage::EdgeCoverage(const Scene& scene, const SliceParams& params, const SliceLayout& layout)
-    : scene_(scene), params_(params), layout_(layout) {
+    : scene_(scene), layout_(layout) {
   if (!scene.greyscale) throw Error("edge coverage needs a scene with a greyscale block");
   k_ = scene.greyscale->antialiasing;
   if (k_ < 2 || k_ > 8) throw Error(fmt::format("edge coverage: {} x {} sub-samples; k is 2 to 8", k_, k_));
@@ -89,35 +67,8 @@ EdgeCoverage::EdgeCoverage(const Scene& scene, const SliceParams& params, const 
   fine_.pitch_y_mm = layout.pitch_y_mm / k_;
   fine_.width_px = layout.width_px * k_;
   fine_.height_px = layout.height_px * k_;
-  // As the slicer's outlines are to the pixels (an eighth of the finest pitch), so these are
-  // to the sub-samples.
-  tolerance_mm_ = 0.125 * std::min({fine_.pitch_x_mm, fine_.pitch_y_mm, layout.layer_mm});
-  const TrivariatePlan plan = plan_trivariates(scene);
-  for (const TrivariatePlan::Trivariate& t : plan.trivariates)
-    trivariates_.push_back(std::make_unique<Trivariate>(*t.volume, tolerance_mm_, params.stop));
-  // The same tessellations of the trim shells as the slicer's, at this grid's tolerance.
-  TrimShellMeshes shells(0.5 * tolerance_mm_, tolerance_mm_);
-  for (std::size_t i = 0; i < scene.cells.size(); ++i) {
-    const Cell& c = scene.cells[i];
-    auto cd = std::make_unique<CellData>();
-    cd->cell = &c;
-    cd->trivariate = plan.of_cell[i];
-    for (std::size_t j = 0; j < c.trim.clauses.size(); ++j) {
-      const TrimClause& clause = c.trim.clauses[j];
-      CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1};
-      if (clause.kind == TrimKind::kVolume) {
-        k.trivariate = plan.of_clause[i][j];
-      } else {
-        k.mesh = shells.mesh(c, clause);
-        if (clause.kind == TrimKind::kParametric)
-          k.outline = shells.outline(c, clause);
-        else
-          k.shell_slot = shell_slots_++;
-      }
-      cd->clauses.push_back(std::move(k));
-    }
-    cells_.push_back(std::move(cd));
-  }
+  decision_ = coverage_decision(scene, params, fine_);
+  tolerance_mm_ = decision_->setup().outline_tolerance_mm;
 }
 
 EdgeCoverage::~EdgeCoverage() = default;
@@ -164,21 +115,18 @@ std::int64_t EdgeCoverage::antialias(int layer, GreyImage& grey) const {
   const auto width = static_cast<std::size_t>(L.width_px);
 
   // 1. The edge pixels: near the cut of any outline.
-  std::vector<std::vector<Segment2>> cuts(trivariates_.size());
-  std::vector<std::vector<Segment2>> shell_cuts(static_cast<std::size_t>(shell_slots_));
   std::vector<std::uint8_t> in_band(width * static_cast<std::size_t>(L.height_px), 0);
-  for (std::size_t t = 0; t < trivariates_.size(); ++t) {
-    trivariates_[t]->mesh.cut(z, cuts[t]);
-    for (const Segment2& s : cuts[t]) mark_band(s, L, margin, in_band);
+  std::vector<Segment2> segments;
+  for (const auto& tv : decision_->trivariates()) {
+    tv->mesh.cut(z, segments);
+    for (const Segment2& s : segments) mark_band(s, L, margin, in_band);
   }
-  std::vector<Segment2> shell_segments;
-  for (const auto& cd : cells_)
+  for (const auto& cd : decision_->cells())
     for (const auto& k : cd->clauses) {
       const ShellMesh* outline = k.shell_slot >= 0 ? k.mesh.get() : k.outline.get();
       if (outline == nullptr) continue;
-      outline->mesh().cut(z, shell_segments);
-      if (k.shell_slot >= 0) shell_cuts[static_cast<std::size_t>(k.shell_slot)] = shell_segments;
-      for (const Segment2& s : shell_segments) mark_band(s, L, margin, in_band);
+      outline->mesh().cut(z, segments);
+      for (const Segment2& s : segments) mark_band(s, L, margin, in_band);
     }
   std::vector<int> band_index(in_band.size(), -1);
   std::vector<std::pair<int, int>> band;  // (col, row), row-major
@@ -208,92 +156,32 @@ std::int64_t EdgeCoverage::antialias(int layer, GreyImage& grey) const {
     }
   }
 
-  // 3. Every trivariate traced on them (within its outline's candidates).
-  std::vector<std::vector<TracedRow>> traced(trivariates_.size());
-  RowSpans spans;
-  for (std::size_t t = 0; t < trivariates_.size(); ++t) {
-    if (cuts[t].empty()) continue;
-    const Trivariate& tv = *trivariates_[t];
-    candidate_spans(cuts[t], F, margin, spans);
-    intersect_spans(spans, band_spans);
-    traced[t].resize(static_cast<std::size_t>(F.height_px));
-    CellTracer tracer(*tv.volume, tv.solver, params_, F.width_px);
-    tracer.trace_layer(F, z, spans, [&](int r, const TracedRow& row) { traced[t][static_cast<std::size_t>(r)] = row; });
-  }
-  std::vector<std::vector<std::vector<double>>> shell_rows(static_cast<std::size_t>(shell_slots_));
-  for (std::size_t s = 0; s < shell_rows.size(); ++s) shell_row_crossings(shell_cuts[s], F, shell_rows[s]);
-  auto traced_inside = [&](int t, int r, int col) {
-    const auto& rows = traced[static_cast<std::size_t>(t)];
-    if (rows.empty()) return false;
-    const auto& cols = rows[static_cast<std::size_t>(r)].cols;
-    return std::binary_search(cols.begin(), cols.end(), col);
-  };
-
-  // 4. The grey of every sub-sample: the last cell in scene order that gives it material.
+  // 3. The grey of every sub-sample (layer_decision.h): its owning cell's, 0 where no cell
+  // gives material.
   const GreyscaleDef& g = *scene_.greyscale;
   const int m = scene_.num_materials();
   const auto kk = static_cast<std::size_t>(k) * static_cast<std::size_t>(k);
-  std::vector<double> sub(band.size() * kk, 0.0);
-  TracedRow kept;
-  std::vector<float> fractions, values;
-  for (const auto& cd : cells_) {
-    const auto& rows = traced[static_cast<std::size_t>(cd->trivariate)];
-    if (rows.empty()) continue;
-    for (int r = 0; r < F.height_px; ++r) {
-      const TracedRow& row = rows[static_cast<std::size_t>(r)];
-      kept.cols.clear();
-      kept.uvw.clear();
-      kept.xyz.clear();
-      for (std::size_t i = 0; i < row.cols.size(); ++i) {
-        const int col = row.cols[i];
-        bool ok = true;
-        for (const auto& clause : cd->clauses) {
-          bool in = true;
-          if (clause.kind == TrimKind::kVolume) {
-            in = traced_inside(clause.trivariate, r, col);
-          } else if (clause.kind == TrimKind::kShell) {
-            const auto& xs = shell_rows[static_cast<std::size_t>(clause.shell_slot)][static_cast<std::size_t>(r)];
-            // A mesh trim by the winding-number rule asks the mesh, sub-sample by sub-sample.
-            in = clause.mesh->winding() || (clause.mesh->gap_tolerant() && xs.size() % 2 == 1)
-                     ? clause.mesh->contains(row.xyz[i])
-                     : inside_crossings(xs, F.x_of_col(col));
-          } else {
-            in = clause.mesh->contains(row.uvw[i]);
-          }
-          if (in != (clause.side == TrimSide::kInside)) {
-            ok = false;
-            break;
-          }
-        }
-        if (!ok) continue;
-        kept.cols.push_back(col);
-        kept.uvw.push_back(row.uvw[i]);
-        kept.xyz.push_back(row.xyz[i]);
-      }
-      const std::size_t n = kept.cols.size();
-      if (n == 0) continue;
-      fractions.resize(n * static_cast<std::size_t>(m));
-      cd->cell->material->evaluate_row(kept.uvw, kept.xyz, fractions);
-      if (cd->cell->grey_source) {
-        values.resize(n);
-        cd->cell->grey_source->evaluate_row(kept.uvw, kept.xyz, values);
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        const float* f = fractions.data() + i * static_cast<std::size_t>(m);
-        float sum = 0.0f;
-        for (int j = 0; j < m; ++j) sum += f[j];
-        if (!(sum > 0.0f)) continue;
-        const double value = g.material >= 0 ? static_cast<double>(f[g.material]) : static_cast<double>(values[i]);
-        const int col = kept.cols[i];
-        const std::size_t b = static_cast<std::size_t>(
+  DecidedPoints points;
+  decide_points(
+      *decision_, z, &band_spans, band.size() * kk, m,
+      [&](int col, int r) {
+        const auto b = static_cast<std::size_t>(
             band_index[static_cast<std::size_t>(r / k) * width + static_cast<std::size_t>(col / k)]);
-        sub[b * kk + static_cast<std::size_t>(r % k) * static_cast<std::size_t>(k) +
-            static_cast<std::size_t>(col % k)] = g.curve.grey(value);
-      }
-    }
+        return b * kk + static_cast<std::size_t>(r % k) * static_cast<std::size_t>(k) +
+               static_cast<std::size_t>(col % k);
+      },
+      points);
+  std::vector<double> sub(band.size() * kk, 0.0);
+  for (std::size_t at = 0; at < sub.size(); ++at) {
+    if (!points.owner_gave_material[at]) continue;
+    const double value =
+        g.material >= 0 ? static_cast<double>(
+                              points.fractions[at * static_cast<std::size_t>(m) + static_cast<std::size_t>(g.material)])
+                        : static_cast<double>(points.grey_source[at]);
+    sub[at] = g.curve.grey(value);
   }
 
-  // 5. Each edge pixel: the mean of its sub-samples (0 where no cell gives material).
+  // 4. Each edge pixel: the mean of its sub-samples.
   for (std::size_t b = 0; b < band.size(); ++b) {
     double sum = 0.0;
     for (std::size_t i = 0; i < kk; ++i) sum += sub[b * kk + i];

@@ -16,7 +16,7 @@
 
 namespace trivox {
 
-void Slicer::LayerBuffers::clear() {
+void Slicer::Impl::LayerBuffers::clear() {
   const auto m = static_cast<std::size_t>(grid.num_materials());
   for (std::size_t y = 0; y < written.size(); ++y) {
     auto& [first, last] = written[y];
@@ -30,22 +30,22 @@ void Slicer::LayerBuffers::clear() {
   }
 }
 
-std::unique_ptr<Slicer::LayerBuffers> Slicer::take_buffers() const {
+std::unique_ptr<Slicer::Impl::LayerBuffers> Slicer::Impl::take_buffers() const {
   {
-    const std::lock_guard lock(buffers_mutex_);
-    if (!free_buffers_.empty()) {
-      auto buffers = std::move(free_buffers_.back());
-      free_buffers_.pop_back();
+    const std::lock_guard lock(buffers_mutex);
+    if (!free_buffers.empty()) {
+      auto buffers = std::move(free_buffers.back());
+      free_buffers.pop_back();
       return buffers;
     }
   }
-  return std::make_unique<LayerBuffers>(layout_.width_px, layout_.height_px, scene_.num_materials());
+  return std::make_unique<LayerBuffers>(layout.width_px, layout.height_px, scene.num_materials());
 }
 
-void Slicer::give_back(std::unique_ptr<LayerBuffers> buffers) const {
+void Slicer::Impl::give_back(std::unique_ptr<LayerBuffers> buffers) const {
   buffers->clear();
-  const std::lock_guard lock(buffers_mutex_);
-  free_buffers_.push_back(std::move(buffers));
+  const std::lock_guard lock(buffers_mutex);
+  free_buffers.push_back(std::move(buffers));
 }
 
 namespace {
@@ -61,46 +61,59 @@ std::int64_t pixel_budget(const Box3& box, const PrinterProfile& printer) {
   return static_cast<std::int64_t>(std::clamp(faces, double{1 << 14}, double{1 << 24}));
 }
 
-// Samples per direction of a shell's surfaces (the same for all) within `max_vertices`.
-int shell_samples(const TrimShell& shell, std::int64_t max_vertices) {
-  const auto surfaces = static_cast<double>(std::max<std::size_t>(1, shell.surfaces.size() + shell.trimmed.size()));
-  return std::clamp(static_cast<int>(std::sqrt(static_cast<double>(max_vertices) / surfaces)), 3, 1024);
-}
-
 }  // namespace
 
-Slicer::Slicer(const Scene& scene, SliceParams params) : scene_(scene), params_(std::move(params)) {
-  params_.validate();
+Slicer::Slicer(const Scene& scene, SliceParams params) : impl_(std::make_unique<Impl>(scene, std::move(params))) {}
+
+Slicer::~Slicer() = default;
+
+const SliceLayout& Slicer::layout() const noexcept { return impl_->layout; }
+const SliceParams& Slicer::params() const noexcept { return impl_->params; }
+const Scene& Slicer::scene() const noexcept { return impl_->scene; }
+const DitherParams& Slicer::dither_params() const noexcept { return impl_->dither; }
+
+LayerResult Slicer::slice_layer(int layer) const { return impl_->slice_layer(layer, LayerRequest{}); }
+
+LayerResult Slicer::slice_layer(int layer, const LayerRequest& request) const {
+  return impl_->slice_layer(layer, request);
+}
+
+Slicer::Impl::Impl(const Scene& scene_in, SliceParams params_in) : scene(scene_in), params(std::move(params_in)) {
+  params.validate();
   scene.printer.validate();
-  dither_ = params_.dither.value_or(scene.dithering.value_or(DitherParams{}));
-  dither_.validate();
+  dither = params.dither.value_or(scene.dithering.value_or(DitherParams{}));
+  dither.validate();
   // An eighth of the finest pitch: the band of candidates the outline cannot decide, and so
   // the global solves that prove its pixels outside, halve with the tolerance, while the
   // outline meshes grow little (measured in docs/PERFORMANCE.md).
   const double finest_pitch_mm =
       std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm});
-  outline_tolerance_mm_ = params_.outline_tolerance_mm.value_or(0.125 * finest_pitch_mm);
+  outline_tolerance_mm = params.outline_tolerance_mm.value_or(0.125 * finest_pitch_mm);
   check_model_fits(finest_pitch_mm);
-  prepare_cells();
+  // Model-space shells decide pixels by their tessellation alone: half the outline
+  // tolerance when one is given, else an eighth of the finest pitch.
+  detail::LayerDecision::Setup setup;
+  setup.outline_tolerance_mm = outline_tolerance_mm;
+  setup.shell_tolerance_mm = params.outline_tolerance_mm ? 0.5 * *params.outline_tolerance_mm : 0.125 * finest_pitch_mm;
+  decision = std::make_unique<detail::LayerDecision>(scene, params, setup);
   lay_out(finest_pitch_mm);
-  build_meshes(finest_pitch_mm);
+  build_meshes();
+  decision->set_layout(layout);
   // Greyscale: anti-aliased edges (coverage.h).
   if (scene.greyscale && scene.greyscale->antialiasing > 1)
-    coverage_ = std::make_unique<detail::EdgeCoverage>(scene, params_, layout_);
+    coverage = std::make_unique<detail::EdgeCoverage>(scene, params, layout);
 }
-
-Slicer::~Slicer() = default;
 
 // The control points' box holds every cell, so its layout bounds the final one: checking it
 // first refuses a job too large to lay out, or too far from the origin for a double to
 // resolve its pixels, before anything is built.
-void Slicer::check_model_fits(double finest_pitch_mm) const {
-  const Box3 hull = scene_.bounds();
+void Slicer::Impl::check_model_fits(double finest_pitch_mm) const {
+  const Box3 hull = scene.bounds();
   if (hull.empty()) return;
   try {
-    make_layout(hull, scene_.printer);
+    make_layout(hull, scene.printer);
   } catch (const Error& e) {
-    throw Error(fmt::format("{}: {}", scene_.source, e.what()));
+    throw Error(fmt::format("{}: {}", scene.source, e.what()));
   }
   const double far = std::max({std::abs(hull.lo.x), std::abs(hull.lo.y), std::abs(hull.lo.z), std::abs(hull.hi.x),
                                std::abs(hull.hi.y), std::abs(hull.hi.z)});
@@ -112,137 +125,51 @@ void Slicer::check_model_fits(double finest_pitch_mm) const {
         fmt::format("{}: the model reaches {:.6g} mm from the origin, where a double resolves only {:.3g} mm, "
                     "more than a thousandth of the printer's {:.4g} mm pitch; place it nearer the origin "
                     "(a placement's \"translate\")",
-                    scene_.source, far, resolution, finest_pitch_mm));
-}
-
-namespace {
-
-// Whether the material's bounds over the whole domain pin every fraction to one value (exact
-// for the constant kind; sound for every kind, so a varying material never passes).
-bool is_constant(const MaterialFunction& material, const ParamBox& domain) {
-  const auto m = static_cast<std::size_t>(material.num_materials());
-  std::vector<float> lo(m), hi(m);
-  material.bounds(domain, lo, hi);
-  return std::equal(lo.begin(), lo.end(), hi.begin());
-}
-
-}  // namespace
-
-// The cells, their trivariates (each with its global solver) and their trim clauses; the
-// meshes come later, once the layout gives their budgets.
-void Slicer::prepare_cells() {
-  const detail::TrivariatePlan plan = detail::plan_trivariates(scene_);
-  for (const detail::TrivariatePlan::Trivariate& t : plan.trivariates) {
-    trivariates_.push_back(std::make_unique<Trivariate>(*t.volume));
-    if (t.folds) trivariates_.back()->fold.emplace(*t.volume);
-  }
-  int shell_slots = 0;
-  for (std::size_t i = 0; i < scene_.cells.size(); ++i) {
-    const Cell& c = scene_.cells[i];
-    auto cd = std::make_unique<CellData>();
-    cd->cell = &c;
-    cd->trivariate = plan.of_cell[i];
-    for (std::size_t j = 0; j < c.trim.clauses.size(); ++j) {
-      const TrimClause& clause = c.trim.clauses[j];
-      CellData::Clause k{clause.kind, clause.side, -1, nullptr, nullptr, -1, &clause};
-      if (clause.kind == TrimKind::kVolume) {
-        k.trivariate = plan.of_clause[i][j];
-        trivariates_[static_cast<std::size_t>(k.trivariate)]->traced_first = true;
-        cd->model_space_clauses = true;
-      } else if (clause.kind == TrimKind::kParametric) {
-        cd->parametric_clauses = true;
-        cd->parametric_outlines = cd->parametric_outlines || clause.side == TrimSide::kInside;
-      } else {
-        k.shell_slot = shell_slots++;
-        cd->model_space_clauses = true;
-      }
-      cd->clauses.push_back(std::move(k));
-    }
-    // The paper's strategies (Table 1) keep inverting every pixel, as the paper does.
-    const bool own_strategy =
-        params_.tracing == TracingStrategy::kPredict || params_.tracing == TracingStrategy::kFlood;
-    cd->fills_interior = params_.fill_constant_interiors && own_strategy && cd->clauses.empty() && !c.grey_source &&
-                         !trivariates_[static_cast<std::size_t>(cd->trivariate)]->fold &&
-                         is_constant(*c.material, c.volume.domain());
-    cells_.push_back(std::move(cd));
-  }
+                    scene.source, far, resolution, finest_pitch_mm));
 }
 
 // The frame and the layers come from the cells' volumes alone: the tight box of each image
 // (GlobalSolver::image_bounds), never from an approximation of it, widened by a quarter of
 // the finest pitch. A setting such as the outline tolerance cannot move them.
-void Slicer::lay_out(double finest_pitch_mm) {
-  for (const auto& tv : trivariates_) {
-    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while bounding the cells");
-    tv->image = tv->solver.image_bounds(1e-3 * finest_pitch_mm);
-  }
+void Slicer::Impl::lay_out(double finest_pitch_mm) {
+  decision->bound_images(1e-3 * finest_pitch_mm);
   Box3 bounds;
-  for (const auto& cd : cells_) bounds.expand(trivariates_[static_cast<std::size_t>(cd->trivariate)]->image);
+  for (const auto& cd : decision->cells())
+    bounds.expand(decision->trivariates()[static_cast<std::size_t>(cd->trivariate)]->image);
   const double margin_mm = 0.25 * finest_pitch_mm;
   // A masked-resin printer builds from its platform: the first layer starts at the model's
   // bottom, as slicers for these printers lay it.
-  const Vec3 grow{margin_mm, margin_mm, scene_.printer.display ? 0.0 : margin_mm};
+  const Vec3 grow{margin_mm, margin_mm, scene.printer.display ? 0.0 : margin_mm};
   if (!bounds.empty()) bounds = Box3{bounds.lo - grow, bounds.hi + grow};
-  layout_ = make_layout(bounds, scene_.printer);
+  layout = make_layout(bounds, scene.printer);
 }
 
 // Outline meshes within their budgets (half the memory limit at most, shared out by the
-// cells' sizes in pixels, before any is built), then the trim shells' meshes.
-void Slicer::build_meshes(double finest_pitch_mm) {
+// cells' sizes in pixels, before any is built), then the trim shells' meshes (layer_decision.h).
+void Slicer::Impl::build_meshes() {
   std::vector<std::int64_t> budgets;
   double wanted = 0;
-  for (const auto& tv : trivariates_) {
-    budgets.push_back(pixel_budget(tv->image.empty() ? Box3{} : tv->image, scene_.printer));
+  for (const auto& tv : decision->trivariates()) {
+    budgets.push_back(pixel_budget(tv->image.empty() ? Box3{} : tv->image, scene.printer));
     wanted += static_cast<double>(budgets.back());
   }
-  if (params_.memory_limit_bytes > 0) {
-    const double allowed = 0.5 * static_cast<double>(params_.memory_limit_bytes) /
-                           static_cast<double>(detail::kBoundaryMeshBytesPerVertex);
+  if (params.memory_limit_bytes > 0) {
+    const double allowed =
+        0.5 * static_cast<double>(params.memory_limit_bytes) / static_cast<double>(detail::kBoundaryMeshBytesPerVertex);
     if (wanted > allowed)
       for (std::int64_t& b : budgets)
         b = std::max<std::int64_t>(64, static_cast<std::int64_t>(static_cast<double>(b) * allowed / wanted));
   }
-  for (std::size_t k = 0; k < trivariates_.size(); ++k) {
-    Trivariate& tv = *trivariates_[k];
-    detail::BoundaryMesh built =
-        detail::build_boundary_mesh(*tv.volume, outline_tolerance_mm_, budgets[k], params_.stop);
-    tv.mesh = std::move(built.mesh);
-    // Pixels whose centres lie within twice the mesh's distance from the boundary are decided
-    // by the exact inverse: the tolerance asked for, or what the budget allowed.
-    tv.band_mm = 2.0 * std::max(outline_tolerance_mm_, built.deviation_mm);
-  }
-
-  // Model-space shells decide pixels by their tessellation alone: half the outline
-  // tolerance when one is given, else an eighth of the finest pitch. Shells shared by
-  // several clauses are tessellated once (cell_preparation.h); a parametric trim's
-  // tessellation is also its outline once mapped through the cell's volume, refined until
-  // that image lies within the outline tolerance too.
-  const double shell_tolerance_mm =
-      params_.outline_tolerance_mm ? 0.5 * *params_.outline_tolerance_mm : 0.125 * finest_pitch_mm;
-  detail::TrimShellMeshes shells(shell_tolerance_mm, outline_tolerance_mm_);
-  for (auto& cd : cells_) {
-    const Cell& c = *cd->cell;
-    const std::int64_t budget = budgets[static_cast<std::size_t>(cd->trivariate)];
-    for (CellData::Clause& k : cd->clauses) {
-      if (k.kind == TrimKind::kVolume) continue;
-      if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while meshing a trim shell");
-      const TrimClause& clause = *k.source;
-      k.mesh = shells.mesh(c, clause, shell_samples(*clause.shell, budget));
-      if (k.mesh->open_edges() > 0)
-        throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene_.source, c.name,
-                                clause.shell->name, k.mesh->open_edges()));
-      if (clause.kind == TrimKind::kParametric && clause.side == TrimSide::kInside)
-        k.outline = shells.outline(c, clause);
-    }
-  }
+  decision->build_meshes(budgets);
 }
 
 std::uint64_t Slicer::tracing_bytes_per_worker() const noexcept {
-  const auto pixels = static_cast<std::uint64_t>(layout_.width_px) * static_cast<std::uint64_t>(layout_.height_px);
-  std::uint64_t bytes = detail::CellTracer::ring_bytes(layout_.width_px);
+  const SliceLayout& L = impl_->layout;
+  const auto pixels = static_cast<std::uint64_t>(L.width_px) * static_cast<std::uint64_t>(L.height_px);
+  std::uint64_t bytes = detail::CellTracer::ring_bytes(L.width_px);
   // A constant-material cell's filled row (slice_cell).
-  bytes += static_cast<std::uint64_t>(layout_.width_px) * detail::CellTracer::kTracedBytesPerPixel;
-  for (const auto& tv : trivariates_)
+  bytes += static_cast<std::uint64_t>(L.width_px) * detail::CellTracer::kTracedBytesPerPixel;
+  for (const auto& tv : impl_->decision->trivariates())
     if (tv->traced_first) bytes += pixels * detail::CellTracer::kTracedBytesPerPixel;
   return bytes;
 }

@@ -127,7 +127,8 @@ TEST(Chalice, CellsPartitionTheUnionOfBaseKnotAndCupPixelByPixel) {
     const int layer = static_cast<int>(std::lround((z - L.z0_mm) / L.layer_mm - 0.5));
     const double zl = L.z_of_layer(layer);
     std::vector<int> owner;
-    const LayerResult result = slicer.slice_layer(layer, &owner);
+    const LayerResult result = slicer.slice_layer(layer, {.owner = true});
+    owner = result.owner;
     EXPECT_EQ(result.stats.unresolved_pixels, 0) << "layer " << layer;
     EXPECT_EQ(result.stats.folded_pixels, 0) << "layer " << layer;
     for (int row = 0; row < L.height_px; ++row)

@@ -68,7 +68,7 @@ TEST(DuckTrimmedBox, AgreesWithVerticalRaysThroughAFinerTessellation) {
     ASSERT_LT(layer, L.num_layers);
     const double z = L.z_of_layer(layer);
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     auto in_duck = [&](int col, int row) {
       if (col < 0 || row < 0 || col >= L.width_px || row >= L.height_px) return false;
       return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)],

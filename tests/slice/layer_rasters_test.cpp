@@ -15,9 +15,9 @@ namespace {
 
 void expect_rasters_match(const Slicer& slicer, int layer) {
   const LayerResult plain = slicer.slice_layer(layer);
-  std::vector<int> owner;
-  LayerRasters rasters;
-  const LayerResult r = slicer.slice_layer(layer, &owner, &rasters);
+  const LayerResult r = slicer.slice_layer(layer, {.owner = true, .rasters = true});
+  const std::vector<int>& owner = r.owner;
+  const LayerRasters& rasters = r.rasters;
   EXPECT_EQ(r.labels, plain.labels) << "layer " << layer;
   const SliceLayout& L = slicer.layout();
   ASSERT_EQ(rasters.fractions.width_px(), L.width_px);

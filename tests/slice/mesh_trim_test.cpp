@@ -18,6 +18,7 @@
 #include <map>
 
 #include "mesh/mesh_fixtures.h"
+#include "slice/mesh_trim_fixtures.h"
 #include "support/test_support.h"
 #include "trivox/error.h"
 #include "trivox/scene/scene.h"
@@ -27,27 +28,15 @@ namespace trivox {
 namespace {
 
 namespace fs = std::filesystem;
+using test::cell_box;
+using test::kMeshes;
+using test::placed;
+using test::scene_json;
+using test::SharedMesh;
 
 struct Occupancy {
   std::int64_t checked = 0, inside = 0, left_out = 0, mismatches = 0;
 };
-
-std::string scene_json(const fs::path& mesh, double scale, const Box3& box, const std::string& rule) {
-  std::string points;
-  for (int k = 0; k < 2; ++k)
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i)
-        points += fmt::format("{}[{:.17g}, {:.17g}, {:.17g}]", points.empty() ? "" : ", ", i ? box.hi.x : box.lo.x,
-                              j ? box.hi.y : box.lo.y, k ? box.hi.z : box.lo.z);
-  return fmt::format(
-      R"({{"version": 1, "units": "mm", "printer": {{"x_dpi": 203.2, "y_dpi": 203.2, "layer_thickness_mm": 0.125, "max_materials": 2}},
-  "materials": ["VeroCyan", "VeroMagenta"],
-  "cells": [{{"name": "trimmed", "geometry": {{"orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
-    "points": [{}]}},
-    "trim": [{{"side": "inside", "shell": {{"mesh": "{}", "placement": {{"scale": {:.17g}}}, "inside_rule": "{}"}}}}],
-    "material": {{"kind": "expression", "fractions": {{"VeroCyan": "w", "VeroMagenta": "1 - w"}}}}}}]}})",
-      points, mesh.string(), scale, rule);
-}
 
 // Slices `layers` layers spread over the scene and compares every pixel with the rays.
 Occupancy compare(const Scene& scene, const test::ExactRays& rays, const Box3& box, int layers,
@@ -59,7 +48,7 @@ Occupancy compare(const Scene& scene, const test::ExactRays& rays, const Box3& b
     const int layer = (2 * i + 1) * L.num_layers / (2 * layers);
     const double z = L.z_of_layer(layer);
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     for (int row = 0; row < L.height_px; ++row)
       for (int col = 0; col < L.width_px; ++col) {
         const Vec3 p{L.x_of_col(col), L.y_of_row(row), z};
@@ -88,29 +77,6 @@ Occupancy compare(const Scene& scene, const test::ExactRays& rays, const Box3& b
       }
   }
   return o;
-}
-
-struct SharedMesh {
-  const char* name;
-  double scale;
-};
-constexpr SharedMesh kMeshes[] = {
-    {"bunny.stl", 0.12}, {"torus.stl", 0.4}, {"M3_hex_nut.stl", 2.0}, {"sphere.stl", 0.4}, {"box.stl", 0.5}};
-
-std::vector<std::array<Vec3, 3>> placed(std::vector<std::array<Vec3, 3>> soup, double scale) {
-  for (auto& t : soup)
-    for (Vec3& p : t) p = Vec3{scale * p.x, scale * p.y, scale * p.z};
-  return soup;
-}
-
-// The cell's box: past the mesh on every side but +x and +z, where it cuts the mesh off, so
-// that both the box and the mesh bound the material.
-Box3 cell_box(const std::vector<std::array<Vec3, 3>>& soup) {
-  Box3 m;
-  for (const auto& t : soup)
-    for (const Vec3& p : t) m.expand(p);
-  const Vec3 size = m.hi - m.lo;
-  return Box3{m.lo - Vec3{0.7, 0.9, 0.6}, {m.lo.x + 0.77 * size.x, m.hi.y + 0.8, m.lo.z + 0.83 * size.z}};
 }
 
 TEST(MeshTrim, OccupancyOfTheFiveSharedMeshesAgreesWithExactRays) {

@@ -77,7 +77,7 @@ void expect_the_global_solvers_pixels(const Scene& scene, const SliceParams& sp)
   params.newton.residual_tolerance_model = 1e-6;
   for (int layer : {L.num_layers / 4, L.num_layers / 2}) {
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     int inside = 0, differ = 0;
     for (int r = 0; r < L.height_px; ++r)
       for (int c = 0; c < L.width_px; ++c) {

@@ -107,7 +107,7 @@ TEST(TeapotTrimmedBox, GapTolerantShellAgreesWithVerticalRaysAwayFromSurfaceAndS
     const int layer = static_cast<int>((z - L.z0_mm) / L.layer_mm);
     const double zl = L.z_of_layer(layer);
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     auto in_teapot = [&](int col, int row) {
       if (col < 0 || row < 0 || col >= L.width_px || row >= L.height_px) return false;
       return test::VerticalRays::inside(columns[static_cast<std::size_t>(row) * width + static_cast<std::size_t>(col)],

@@ -80,8 +80,9 @@ TEST(TrimmedCells, BooleanCellsPartitionTheUnion) {
   int mismatches = 0, borderline = 0;
   for (int layer : {2, L.num_layers / 3, L.num_layers / 2, L.num_layers - 3}) {
     std::vector<int> owner, owner_reversed;
-    const LayerResult r = slicer.slice_layer(layer, &owner);
-    slicer_reversed.slice_layer(layer, &owner_reversed);
+    const LayerResult r = slicer.slice_layer(layer, {.owner = true});
+    owner = r.owner;
+    owner_reversed = slicer_reversed.slice_layer(layer, {.owner = true}).owner;
     std::int64_t sum = 0;
     for (auto n : r.stats.pixels_per_cell) sum += n;
     EXPECT_EQ(sum, r.stats.pixels_inside);
@@ -132,7 +133,7 @@ TEST(TrimmedCells, ShellTrimAgreesWithAFinerPointInSolidTestAwayFromTheSurface) 
   int checked = 0, inside = 0;
   for (int layer : {3, L.num_layers / 2, L.num_layers - 4}) {
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     const double z = L.z_of_layer(layer);
     for (int row = 1; row < L.height_px; row += 3)
       for (int col = 1; col < L.width_px; col += 5) {
@@ -174,7 +175,7 @@ TEST(TrimmedCells, ParametricTrimAgreesWithDirectEvaluation) {
   int removed = 0, kept = 0;
   for (int layer : {L.num_layers / 4, L.num_layers / 2}) {
     std::vector<int> owner;
-    slicer.slice_layer(layer, &owner);
+    owner = slicer.slice_layer(layer, {.owner = true}).owner;
     for (int row = 0; row < L.height_px; ++row)
       for (int col = 0; col < L.width_px; ++col) {
         const Vec3 uvw{L.x_of_col(col) / 3, L.y_of_row(row) / 2, L.z_of_layer(layer)};
@@ -216,8 +217,10 @@ TEST(TrimmedCells, ParametricOutlinesNarrowTheCandidatesAndChangeNoPixel) {
   std::int64_t candidates = 0, reference_candidates = 0, inside_pixels = 0;
   for (int layer = 0; layer < L.num_layers; layer += 2) {
     std::vector<int> owner, reference_owner;
-    const LayerResult r = narrowed.slice_layer(layer, &owner);
-    const LayerResult ref = reference.slice_layer(layer, &reference_owner);
+    const LayerResult r = narrowed.slice_layer(layer, {.owner = true});
+    owner = r.owner;
+    const LayerResult ref = reference.slice_layer(layer, {.owner = true});
+    reference_owner = ref.owner;
     EXPECT_EQ(owner, reference_owner) << "layer " << layer;
     EXPECT_TRUE(std::ranges::equal(r.labels.values(), ref.labels.values())) << "layer " << layer;
     EXPECT_EQ(r.stats.pixels_inside, ref.stats.pixels_inside) << "layer " << layer;
@@ -253,8 +256,10 @@ TEST(TrimmedCells, ShellTrimsNarrowTheCandidatesAndChangeNoPixel) {
   std::int64_t candidates = 0, reference_candidates = 0, whole_candidates = 0, inside_pixels = 0, whole_inside = 0;
   for (int layer = 0; layer < L.num_layers; layer += 3) {
     std::vector<int> owner, reference_owner;
-    const LayerResult r = narrowed.slice_layer(layer, &owner);
-    const LayerResult ref = reference.slice_layer(layer, &reference_owner);
+    const LayerResult r = narrowed.slice_layer(layer, {.owner = true});
+    owner = r.owner;
+    const LayerResult ref = reference.slice_layer(layer, {.owner = true});
+    reference_owner = ref.owner;
     const LayerResult w = whole.slice_layer(layer);
     EXPECT_EQ(owner, reference_owner) << "layer " << layer;
     EXPECT_TRUE(std::ranges::equal(r.labels.values(), ref.labels.values())) << "layer " << layer;
@@ -290,7 +295,8 @@ void expect_owners_of_multipatch(const std::vector<Volume>& patches) {
   int mismatches = 0, borderline = 0;
   for (int layer : {L.num_layers / 3, (2 * L.num_layers) / 3}) {
     std::vector<int> owner;
-    const LayerResult r = slicer.slice_layer(layer, &owner);
+    const LayerResult r = slicer.slice_layer(layer, {.owner = true});
+    owner = r.owner;
     std::int64_t owned = 0;
     for (std::size_t i = 0; i < patches.size(); ++i) {
       per_cell[i] += r.stats.pixels_per_cell[i];

@@ -174,8 +174,8 @@ TEST(SimdTargets, ExampleLayersAreTheSameOnEveryTarget) {
     const Slicer slicer(scene, {});
     std::vector<std::pair<LayerResult, LayerRasters>> out;
     for (int layer : {300, 900, 1500}) {
-      LayerRasters rasters;
-      LayerResult r = slicer.slice_layer(layer, nullptr, &rasters);
+      LayerResult r = slicer.slice_layer(layer, {.rasters = true});
+      LayerRasters rasters = std::move(r.rasters);
       out.emplace_back(std::move(r), std::move(rasters));
     }
     return out;
