@@ -42,12 +42,7 @@ std::unique_ptr<LayerDecision> coverage_decision(const Scene& scene, const Slice
   // As the slicer's outlines are to the pixels (an eighth of the finest pitch), so these are
   // to the points of `grid`.
   setup.outline_tolerance_mm = 0.125 * std::min({grid.pitch_x_mm, grid.pitch_y_mm, grid.layer_mm});
-  setup.shell_tolerance_mm = 0.5 * setup.outline_tolerance_mm;
-  setup.honour_folds = false;
-  setup.band_from_deviation = false;
-  setup.trace_all_first = true;
-  setup.outline_every_parametric = true;
-  setup.shells_within_budget = false;
+  setup.shell_tolerance_mm = setup.outline_tolerance_mm;
   auto decision = std::make_unique<LayerDecision>(scene, params, setup);
   // Within a fixed budget (as the slicer's outline meshes are within theirs); a mesh the
   // budget cuts short is accepted here: a sub-sample it misjudges near the edge moves an
@@ -82,22 +77,8 @@ void mark_band(const Segment2& s, const SliceLayout& L, double margin, std::vect
   const int r0 = std::max(0, static_cast<int>(std::ceil(L.row_of_y(yhi + hy))));
   const int r1 = std::min(L.height_px - 1, static_cast<int>(std::floor(L.row_of_y(ylo - hy))));
   for (int r = r0; r <= r1; ++r) {
-    const double yc = L.y_of_row(r);
     // The part of the segment within the row's widened strip [yc - hy, yc + hy].
-    double xa, xb;
-    if (s.y0 == s.y1) {
-      xa = std::min(s.x0, s.x1);
-      xb = std::max(s.x0, s.x1);
-    } else {
-      double t0 = (yc - hy - s.y0) / (s.y1 - s.y0), t1 = (yc + hy - s.y0) / (s.y1 - s.y0);
-      if (t0 > t1) std::swap(t0, t1);
-      t0 = std::clamp(t0, 0.0, 1.0);
-      t1 = std::clamp(t1, 0.0, 1.0);
-      if (t0 > t1) continue;
-      const double x0 = s.x0 + t0 * (s.x1 - s.x0), x1 = s.x0 + t1 * (s.x1 - s.x0);
-      xa = std::min(x0, x1);
-      xb = std::max(x0, x1);
-    }
+    const auto [xa, xb] = x_range_in_strip(s, L.y_of_row(r), hy);
     const int c0 = std::max(0, static_cast<int>(std::ceil(L.col_of_x(xa - hx))));
     const int c1 = std::min(L.width_px - 1, static_cast<int>(std::floor(L.col_of_x(xb + hx))));
     for (int c = c0; c <= c1; ++c)

@@ -39,8 +39,7 @@ LayerDecision::LayerDecision(const Scene& scene, const SliceParams& params, Setu
   const TrivariatePlan plan = plan_trivariates(scene_);
   for (const TrivariatePlan::Trivariate& t : plan.trivariates) {
     trivariates_.push_back(std::make_unique<Trivariate>(*t.volume));
-    if (t.folds && setup_.honour_folds) trivariates_.back()->fold.emplace(*t.volume);
-    trivariates_.back()->traced_first = setup_.trace_all_first;
+    if (t.folds) trivariates_.back()->fold.emplace(*t.volume);
   }
   int shell_slots = 0;
   for (std::size_t i = 0; i < scene_.cells.size(); ++i) {
@@ -89,7 +88,7 @@ void LayerDecision::build_meshes(const std::vector<std::int64_t>& budgets) {
     tv.mesh = std::move(built.mesh);
     // Points whose centres lie within twice the mesh's distance from the boundary are decided
     // by the exact inverse: the tolerance asked for, or what the budget allowed.
-    tv.band_mm = setup_.band_from_deviation ? 2.0 * std::max(tolerance_mm, built.deviation_mm) : 2.0 * tolerance_mm;
+    tv.band_mm = 2.0 * std::max(tolerance_mm, built.deviation_mm);
   }
   // Model-space shells decide points by their tessellation alone. Shells shared by several
   // clauses are tessellated once (cell_preparation.h); a parametric trim's tessellation is
@@ -103,12 +102,11 @@ void LayerDecision::build_meshes(const std::vector<std::int64_t>& budgets) {
       if (k.kind == TrimKind::kVolume) continue;
       if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while meshing a trim shell");
       const TrimClause& clause = *k.source;
-      k.mesh = setup_.shells_within_budget ? shells.mesh(c, clause, shell_samples(*clause.shell, budget))
-                                           : shells.mesh(c, clause);
-      if (setup_.shells_within_budget && k.mesh->open_edges() > 0)
+      k.mesh = shells.mesh(c, clause, shell_samples(*clause.shell, budget));
+      if (k.mesh->open_edges() > 0)
         throw Error(fmt::format("{}: cell '{}': the shell {} is not closed ({} open edges)", scene_.source, c.name,
                                 clause.shell->name, k.mesh->open_edges()));
-      if (clause.kind == TrimKind::kParametric && (clause.side == TrimSide::kInside || setup_.outline_every_parametric))
+      if (clause.kind == TrimKind::kParametric && clause.side == TrimSide::kInside)
         k.outline = shells.outline(c, clause);
     }
   }

@@ -50,23 +50,12 @@ inline bool claim_point(int cell, bool gives_material, int& owner, std::uint8_t&
 
 class LayerDecision {
  public:
-  // How the decision is prepared: the slicer's choices, which the edge coverage's preparation
-  // differs from where it is simpler (each flag keeps that path's results as they were).
+  // The tolerances the decision is prepared at: the slicer's are an eighth of the finest pitch
+  // of the pixels, the edge coverage's an eighth of its sub-samples' (everything else is
+  // prepared the same way for both, so that they decide a point alike).
   struct Setup {
     double outline_tolerance_mm = 0;  // of the trivariates' outline meshes
     double shell_tolerance_mm = 0;    // of the model-space trim shells' meshes
-    // A folded volume the scene accepts takes every point by the global solver.
-    bool honour_folds = true;
-    // Band around the outline: twice the larger of the tolerance and the mesh's deviation
-    // (else twice the tolerance, accepting a mesh its budget cut short).
-    bool band_from_deviation = true;
-    // Every trivariate traced once per layer, not only those that trim some cell.
-    bool trace_all_first = false;
-    // Every parametric clause gets its model-space outline, not only "inside" ones.
-    bool outline_every_parametric = false;
-    // Trim shells sampled within the budget of their cell's outline mesh (else up to 1024
-    // samples per direction), and refused when not closed.
-    bool shells_within_budget = true;
   };
 
   // One trivariate, inverted once per point and layer however many cells use it.

@@ -48,20 +48,7 @@ void crossings_and_band(const std::vector<Segment2>& segments, const SliceLayout
     // The band of centres within m of the segment: clip it to each nearby row's strip.
     const auto [b0, b1] = rows_between(L, std::min(s.y0, s.y1) - m, std::max(s.y0, s.y1) + m);
     for (int r = b0; r <= b1; ++r) {
-      const double yc = L.y_of_row(r);
-      double xlo, xhi;
-      if (s.y0 == s.y1) {
-        xlo = std::min(s.x0, s.x1);
-        xhi = std::max(s.x0, s.x1);
-      } else {
-        double t0 = (yc - m - s.y0) / (s.y1 - s.y0), t1 = (yc + m - s.y0) / (s.y1 - s.y0);
-        if (t0 > t1) std::swap(t0, t1);
-        t0 = std::clamp(t0, 0.0, 1.0);
-        t1 = std::clamp(t1, 0.0, 1.0);
-        const double xa = s.x0 + t0 * (s.x1 - s.x0), xb = s.x0 + t1 * (s.x1 - s.x0);
-        xlo = std::min(xa, xb);
-        xhi = std::max(xa, xb);
-      }
+      const auto [xlo, xhi] = x_range_in_strip(s, L.y_of_row(r), m);
       add_span(band, L, r, xlo - m, xhi + m);
     }
   }
@@ -69,6 +56,16 @@ void crossings_and_band(const std::vector<Segment2>& segments, const SliceLayout
 }
 
 }  // namespace
+
+std::pair<double, double> x_range_in_strip(const Segment2& s, double yc, double half_height) {
+  if (s.y0 == s.y1) return {std::min(s.x0, s.x1), std::max(s.x0, s.x1)};
+  double t0 = (yc - half_height - s.y0) / (s.y1 - s.y0), t1 = (yc + half_height - s.y0) / (s.y1 - s.y0);
+  if (t0 > t1) std::swap(t0, t1);
+  t0 = std::clamp(t0, 0.0, 1.0);
+  t1 = std::clamp(t1, 0.0, 1.0);
+  const double xa = s.x0 + t0 * (s.x1 - s.x0), xb = s.x0 + t1 * (s.x1 - s.x0);
+  return {std::min(xa, xb), std::max(xa, xb)};
+}
 
 void candidate_spans(const std::vector<Segment2>& segments, const SliceLayout& L, double m, RowSpans& rows,
                      RowSpans* interior) {

@@ -11,6 +11,11 @@
 
 namespace trivox::detail {
 
+// The x range (lo, hi) of segment `s` clipped to the horizontal strip yc - half_height <= y <=
+// yc + half_height (a horizontal segment's whole range; a segment that misses the strip gives
+// its end nearest to it): where a segment's band meets a row.
+std::pair<double, double> x_range_in_strip(const Segment2& s, double yc, double half_height);
+
 // Inclusive column ranges per row.
 using RowSpans = std::vector<std::vector<std::pair<int, int>>>;
 

@@ -110,13 +110,6 @@ TEST_P(LayerDecisionOfExample, CoveragePathAtPixelCentresIsTheSlicers) {
   const std::string& name = GetParam();
   const bool shared = name.starts_with("shared_scenes/");
   if (shared && test::shared_data_dir().empty()) GTEST_SKIP() << test::shared_data_missing_message();
-  // Where the edge coverage's own preparation (LayerDecision::Setup: its trim shells' sampling,
-  // its mesh budget and band, every trivariate traced before the cells) still gives pixels near
-  // a trim another answer than the slicer's: found by this test, left until the two
-  // preparations are one.
-  for (const char* differs :
-       {"shared_scenes/duck_trimmed_box", "shared_scenes/hex_nut_radial", "shared_scenes/teapot_trimmed_box"})
-    if (name == differs) GTEST_SKIP() << name << ": the edge coverage's preparation still differs from the slicer's";
   const Scene scene = read_without_antialiasing(fs::path(TRIVOX_EXAMPLES_DIR) / (name + ".json"));
   EXPECT_GT(expect_same_decision(scene, name), 0) << name << ": no pixel inside a cell";
 }
