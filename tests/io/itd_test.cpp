@@ -170,11 +170,27 @@ TEST(ItdWriter, RoundTripsEveryFixture) {
 }
 
 TEST(ItdWriter, RoundTripsDigitsThatNeedSeventeenPlaces) {
-  const double third = 1.0 / 3.0, tiny = 4.898587196589413e-17, big = 1.2345678901234567e300;
+  const double third = 1.0 / 3.0, tiny = 4.898587196589413e-17, big = 1.2345678901234567e99;
   const TensorSpline s({KnotVector(2, {0, 0, third, 1, 1})}, 2, {third, tiny, big, -third, 0.1, 0.7});
   expect_round_trip(Model{"digits", {Patch{"D", 0, 0, s}}, {}});
   const TensorSpline r({KnotVector(2, {0, 0, 1, 1})}, 3, {third, tiny, 0.1, 0.2, 0.3, 0.7}, {0.7, 3.0});
   expect_round_trip(Model{"digits", {Patch{"R", 0, 0, r}}, {}});
+}
+
+// Numbers beyond kMaxModelNumber overflow a volume's derivatives and det J: refused where they
+// are read, with the line and the reason, as the .g2 and G+Smo readers refuse them.
+TEST(ItdReader, RefusesANumberThatOverflows) {
+  const std::string text = "[OBJECT C\n  [CURVE BSPLINE 2 2 E1\n    [KV 0 0 1 1]\n    [0]\n    [1e300]\n  ]\n]\n";
+  try {
+    read_itd(text, "huge.itd");
+    FAIL() << "a coordinate of 1e300 was read";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("huge.itd:5"), std::string::npos) << what;
+    EXPECT_NE(what.find("'1e300' overflows"), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(
+      read_itd("[OBJECT C\n  [CURVE BSPLINE 2 2 E1\n    [KV 0 0 1 1]\n    [0]\n    [1e99]\n  ]\n]\n", "big.itd"));
 }
 
 TEST(ItdWriter, WritesKvpWeightFirstAndSingleWordNames) {
