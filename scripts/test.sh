@@ -24,7 +24,12 @@ for preset in "${presets[@]}"; do
   scripts/build.sh "$preset"
   log="build/$preset/ctest-output.log"
   set +e
-  ctest --preset "$preset" --parallel "$jobs" 2>&1 | tee "$log"
+  # Heavy checks run in the release pass only: under the sanitizers the pixel decision's
+  # equivalence on the shared scenes and meshes (minutes there) is left out; its bundled
+  # scenes still run.
+  exclude=()
+  [ "$preset" = asan ] && exclude=(-E 'LayerDecision.*(shared_scenes|EveryMeshTrimAndRule)')
+  ctest --preset "$preset" --parallel "$jobs" "${exclude[@]}" 2>&1 | tee "$log"
   status=${PIPESTATUS[0]}
   set -e
   result=$(grep -E 'tests passed|No tests were found' "$log" | tail -n 1 || true)
