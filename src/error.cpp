@@ -29,7 +29,7 @@ std::string shown_name(std::string_view name, char quote) {
   std::string out(1, quote);
   for (std::size_t i = 0; i < shown; ++i) {
     const auto c = static_cast<unsigned char>(name[i]);
-    if (c < 0x20 || c == 0x7f)
+    if (c < 0x20 || c == 0x7f)  // the set first_control_character finds
       out += fmt::format("\\x{:02X}", c);
     else
       out += name[i];
@@ -41,6 +41,14 @@ std::string shown_name(std::string_view name, char quote) {
     out += fmt::format("... ({} characters)", characters);
   }
   return out;
+}
+
+std::optional<unsigned char> first_control_character(std::string_view text) {
+  for (char c : text) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7f) return u;
+  }
+  return std::nullopt;
 }
 
 }  // namespace trivox

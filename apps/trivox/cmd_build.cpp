@@ -16,6 +16,7 @@
 
 #include "cli_errors.h"
 #include "commands.h"
+#include "stop_signal.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/scene/construction.h"
@@ -56,7 +57,7 @@ void run_build(const BuildOptions& o) {
         fmt::format("-o {}: the extension names the model format: .itd (IRIT), .xml (G+Smo) or .g2 "
                     "(GoTools)",
                     o.output));
-  const Constructed c = read_construction(o.spec);
+  const Constructed c = read_construction(o.spec, stop_on_signals());
   const ConstructionReport& r = c.report;
   const ParamBox& d = c.volume.domain();
   const std::array<int, 3> orders = c.volume.orders();
@@ -86,6 +87,7 @@ void run_build(const BuildOptions& o) {
   m.patches.push_back(Patch{o.name, 0, 0, c.volume.spline()});
   std::ostringstream text;
   write_model(text, m, *format);
+  throw_if_signalled("writing the model");  // the last moment before the file appears
   write_atomically(o.output, text.str());
   fmt::print("wrote {}\n", o.output);
 }

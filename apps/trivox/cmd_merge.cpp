@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "commands.h"
+#include "stop_signal.h"
 #include "trivox/job/job_folder.h"
 
 namespace trivox::cli {
@@ -16,7 +17,7 @@ void add_merge_command(CLI::App& app) {
       app.add_subcommand("merge", "Join the shard manifests of a job sliced with --shard into manifest.json");
   cmd->add_option("dir", *dir, "Output folder the shards were sliced into")->required();
   cmd->callback([dir] {
-    const JobManifest m = merge_shards(*dir);
+    const JobManifest m = merge_shards(*dir, stop_on_signals());
     fmt::print("merged the shards: {} layers, {} files; manifest: {}\n", m.total_layers, m.files.size(),
                (std::filesystem::path(*dir) / "manifest.json").string());
   });

@@ -20,6 +20,7 @@
 #include "commands.h"
 #include "json_text.h"
 #include "probe_input.h"
+#include "stop_signal.h"
 #include "trivox/error.h"
 #include "trivox/inverse/invert.h"
 #include "trivox/io/model.h"
@@ -56,8 +57,10 @@ template <class Handle>
 void answer_lines(std::size_t expected, std::string_view names, Handle handle) {
   std::string text;
   int line_number = 0, malformed = 0, first_malformed = 0;
+  stop_on_signals();
   while (std::getline(std::cin, text)) {
     ++line_number;
+    throw_if_signalled("answering the input");
     const ProbeLine line = parse_probe_line(text, expected, names);
     if (!line.has_data) continue;
     if (!line.error.empty()) {
@@ -67,6 +70,7 @@ void answer_lines(std::size_t expected, std::string_view names, Handle handle) {
     }
     fmt::print("{{\"line\":{},\"input\":{},{}}}\n", line_number, json_numbers(line.values), handle(line.values));
   }
+  throw_if_signalled("reading the input");  // a signal also ends the read of standard input
   if (std::cin.bad()) throw IoError("cannot read standard input");
   if (malformed > 0)
     throw InputError("<stdin>", first_malformed, "",
@@ -157,10 +161,12 @@ void run_invert(const Model& model, std::optional<int> only_patch, const GlobalS
 
 void run_probe(const ProbeOptions& options) {
   const Model model = read_model(options.model_path);
+  GlobalSolveParams solve = options.solve;
+  solve.stop = stop_on_signals();  // a global solve of a big volume may take seconds
   if (options.eval)
     run_eval(model, *options.patch);
   else
-    run_invert(model, options.patch, options.solve);
+    run_invert(model, options.patch, solve);
 }
 
 }  // namespace

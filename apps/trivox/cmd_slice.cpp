@@ -1,5 +1,4 @@
 // `trivox slice SCENE -o DIR`: printer-ready slices of a scene (docs/CLI.md#slice).
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,6 +18,7 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "stop_signal.h"
 #include "trivox/job/job.h"
 #include "trivox/job/job_estimate.h"
 #include "trivox/job/printed_extent.h"
@@ -38,23 +38,6 @@ struct SliceOptions {
   bool no_cache = false;
   double manifest_interval_s = JobParams{}.manifest_interval_seconds;
 };
-
-// Set by SIGINT / SIGTERM; the job stops starting layers once it is set. The handler is
-// reset after the first signal, so a second Ctrl-C ends the program at once (the job can
-// still be resumed: files are atomic and the manifest lags by at most a second).
-std::atomic<bool> g_stop{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
-
-extern "C" void on_stop_signal(int) { g_stop.store(true); }
-
-void install_stop_handlers() {
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;
-  sigaction(SIGINT, &action, nullptr);
-  sigaction(SIGTERM, &action, nullptr);
-}
 
 // A progress bar with an ETA on a terminal; a line every 10% otherwise (logs, pipes).
 class TerminalProgress final : public ProgressSink {
@@ -107,19 +90,19 @@ void print_summary(const JobOptions& o, const SliceJob& slice_job, const Scene& 
     fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index,
                job.shard_count, o.output);
   if (st.padded_layers > 0)
-    fmt::print("padded with {} empty layers to reach the {} layers Voxel Print needs\n", st.padded_layers,
-               job.min_layers);
+    fmt::print("padded with {} empty layers to reach {} layers{}\n", st.padded_layers, min_layers_of(job),
+               job.min_layers ? "" : ", as Voxel Print needs");
   // A stack shorter than GrabCAD Voxel Print takes is only written when asked for; say so.
   const int model_layers =
       (job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1)) - job.first_layer + 1;
   const int stack_layers = model_layers + st.padded_layers;
   const bool voxel_print = std::any_of(job.formats.begin(), job.formats.end(),
-                                       [](const auto& f) { return f == "voxelprint" || f == "gcvf"; });
+                                       [](const std::string& f) { return layer_writer_feeds_voxel_print(f); });
   if (voxel_print && stack_layers < JobParams::kVoxelPrintMinLayers)
     fmt::print(
         "note: the stack has {} layers, fewer than the {} GrabCAD Voxel Print needs, as --min-layers {} asked "
         "(manifest.json records min_layers {})\n",
-        stack_layers, JobParams::kVoxelPrintMinLayers, job.min_layers, job.min_layers);
+        stack_layers, JobParams::kVoxelPrintMinLayers, min_layers_of(job), min_layers_of(job));
   if (slice_job.empty_result(st) && o.allow_empty)
     fmt::print("note: the stack holds no voxel of the object (--allow-empty)\n");
   fmt::print("statistics: {}\n", slice_job.stats_path().string());
@@ -153,14 +136,15 @@ void print_job_lines(const SliceOptions& so, const Scene& scene, const Slicer& s
 }
 
 void run(const SliceOptions& so) {
-  // First, so that a Ctrl-C while the scene is read or the job estimated still ends with an
-  // interrupted manifest rather than the default action.
-  install_stop_handlers();
+  // First, so that a Ctrl-C while the scene is read or the job estimated still ends cleanly
+  // (stop_signal.h); a second one ends the program at once, and the job can still be resumed:
+  // files are atomic and the manifest lags by at most a second.
+  const std::atomic<bool>* stop = stop_on_signals();
   const JobOptions& o = so.job;
   SliceJobParams sp;
   sp.job = job_params_of(o);
   sp.job.resume = so.resume;
-  sp.job.stop = &g_stop;
+  sp.job.stop = stop;
   sp.job.manifest_interval_seconds = so.manifest_interval_s;
   sp.construction_cache = !so.no_cache;
   sp.checks = !o.no_checks;

@@ -2,6 +2,7 @@
 // estimates what it will cost (docs/CLI.md#validate).
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -10,8 +11,10 @@
 #include "cli_errors.h"
 #include "commands.h"
 #include "job_options.h"
+#include "stop_signal.h"
 #include "trivox/error.h"
 #include "trivox/job/job_estimate.h"
+#include "trivox/job/job_lock.h"
 #include "trivox/job/slice_job.h"
 #include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
@@ -27,8 +30,12 @@ struct ValidateOptions {
 
 void run_validate(const ValidateOptions& v) {
   const JobOptions& o = v.job;
-  const JobParams job = job_params_of(o);
-  const Scene scene = read_scene(o.scene);
+  JobParams job = job_params_of(o);
+  job.stop = stop_on_signals();  // the scene's constructions and the sample layers read it
+  // The folder `trivox slice` would refuse, refused here too (without creating it).
+  if (!o.output.empty())
+    if (auto problem = output_folder_problem(job.output_dir)) throw IoError(std::move(*problem));
+  const Scene scene = read_scene(o.scene, job.stop);
   warn_about_printer(scene);
   const Slicer slicer(scene, slice_params_for(slice_params_of(o, scene), job));
   check_bitmap_shows_object(slicer, o.scene, o.allow_empty);
@@ -44,6 +51,7 @@ void run_validate(const ValidateOptions& v) {
   if (const auto limit = memory_limit_of(o)) fmt::print("  memory limit: {}\n", byte_text(*limit));
   if (!o.no_checks) check_job_fits(e, job);
   // The fraction rules, proved cell by cell over each cell's domain (or not).
+  throw_if_signalled("estimating the job");
   const std::vector<CellFractionCheck> checks = check_scene_fractions(scene);
   int proved = 0, unproved = 0;
   for (const CellFractionCheck& c : checks) {
@@ -66,15 +74,38 @@ void run_validate(const ValidateOptions& v) {
                       cell.name, f.rule, f.uvw.x, f.uvw.y, f.uvw.z, f.xyz.x, f.xyz.y, f.xyz.z));
     }
   }
+  // The greyscale source's values, proved finite (a NaN would stop the job at its first pixel).
+  int grey_unproved = 0;
+  for (const CellFractionCheck& c : check_scene_grey_sources(scene)) {
+    const Cell& cell = scene.cells[static_cast<std::size_t>(c.cell)];
+    const FractionCheck& f = c.check;
+    if (f.outcome == FractionCheckOutcome::kBroken)
+      throw InputError(
+          scene.source, 0, "/greyscale/source",
+          fmt::format("cell '{}': the greyscale source is not a finite number at (u,v,w) = ({:.6g}, {:.6g}, {:.6g}), "
+                      "(x,y,z) = ({:.6g}, {:.6g}, {:.6g}) mm: slicing stops with an error at the first pixel there",
+                      cell.name, f.uvw.x, f.uvw.y, f.uvw.z, f.xyz.x, f.xyz.y, f.xyz.z));
+    if (f.outcome == FractionCheckOutcome::kUnproved) {
+      ++grey_unproved;
+      fmt::print(
+          "  greyscale source: cell '{}': cannot prove its values finite in u [{:.6g}, {:.6g}] v [{:.6g}, "
+          "{:.6g}] w [{:.6g}, {:.6g}]\n",
+          cell.name, f.box.lo.x, f.box.hi.x, f.box.lo.y, f.box.hi.y, f.box.lo.z, f.box.hi.z);
+    }
+  }
   fmt::print("  fraction sums: {} of {} cells proved within the scene's policy ({})\n", proved, checks.size(),
              scene.fraction_policy.policy == SumPolicy::kError
                  ? fmt::format("\"error\", tolerance {}", scene.fraction_policy.tolerance)
                  : std::string("\"normalise\": only finite values to prove"));
-  if (unproved > 0) {
-    fmt::print(
-        "cannot prove: the fraction sums of {} cell{} (above); the job can run, but stops at the first voxel whose "
-        "fractions break the rule\n",
-        unproved, unproved == 1 ? "" : "s");
+  if (unproved > 0 || grey_unproved > 0) {
+    const auto cells = [](int n) { return fmt::format("{} cell{}", n, n == 1 ? "" : "s"); };
+    const std::string what = unproved > 0 && grey_unproved > 0
+                                 ? fmt::format("the fraction sums of {} and the greyscale source of {}",
+                                               cells(unproved), cells(grey_unproved))
+                             : unproved > 0 ? fmt::format("the fraction sums of {}", cells(unproved))
+                                            : fmt::format("the greyscale source of {}", cells(grey_unproved));
+    fmt::print("cannot prove: {} (above); the job can run, but stops at the first voxel where they break the rule\n",
+               what);
     return;
   }
   fmt::print("ok: the job can run\n");

@@ -7,6 +7,7 @@
 
 #include "cli_errors.h"
 #include "commands.h"
+#include "stop_signal.h"
 #include "trivox/job/job_folder.h"
 
 namespace trivox::cli {
@@ -16,7 +17,7 @@ void add_verify_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("verify", "Re-hash and decode every file an output folder's manifest.json lists");
   cmd->add_option("dir", *dir, "Output folder of `trivox slice`")->required();
   cmd->callback([dir] {
-    const VerifyReport r = verify_output(*dir);
+    const VerifyReport r = verify_output(*dir, stop_on_signals());
     for (const std::string& p : r.problems) fmt::print("{}\n", p);
     if (!r.ok())
       throw CorruptOutputError(

@@ -103,9 +103,9 @@ void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
       ->delimiter(',')
       ->check(CLI::IsMember({"stl", "bbox"}));
   cmd.add_option("--min-layers", o.min_layers,
-                 "Pad with empty layers up to this count (GrabCAD Voxel Print needs 30; fewer is reported)")
-      ->check(CLI::Range(0, JobParams::kMaxMinLayers))
-      ->capture_default_str();
+                 "Pad with empty layers up to this count (default: 30 when a format GrabCAD Voxel Print reads, "
+                 "voxelprint or gcvf, is written, as it needs; 0 otherwise; fewer is reported)")
+      ->check(CLI::Range(0, JobParams::kMaxMinLayers));
   cmd.add_option("--preview", o.preview_layers,
                  "Also write these layers (1-based, comma-separated) as preview/layer_NNNNN.png in display colours "
                  "with square pixels")

@@ -37,7 +37,7 @@ struct JobOptions {
   std::string gcvf_names = "codes";
   bool gcvf_all_materials = false;
   std::vector<std::string> gcvf_extras;
-  int min_layers = JobParams::kVoxelPrintMinLayers;
+  std::optional<int> min_layers;    // nullopt: as the formats need (min_layers_of)
   std::vector<int> preview_layers;  // 1-based
   std::string shard;
   double memory_limit_mb = 0;  // 0 = the machine's memory (memory_limit_bytes())

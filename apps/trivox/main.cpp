@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -77,6 +78,10 @@ int fail(trivox::cli::ExitCode code, std::string_view kind, std::string_view mes
 
 int main(int argc, char** argv) {
   using namespace trivox::cli;
+  // A reader that goes away (`trivox probe ... | head -1`) must not kill the program by
+  // SIGPIPE: writes then fail with EPIPE, and the program ends with exit 4 and no message
+  // (docs/CLI.md, "Exit codes").
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     CLI::App app{
         "trivox: slices functionally graded material objects made of trivariate "
@@ -104,11 +109,13 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      // --help is a ParseError too; CLI11 prints it and reports 0.
-      return app.exit(e) == 0 ? kExitOk : kExitUsage;
+      // --help and --version are ParseErrors too; CLI11 prints them and reports 0.
+      if (app.exit(e) != 0) return kExitUsage;
     }
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    if (std::fflush(stdout) != 0 || std::ferror(stdout)) {
+      if (errno == EPIPE) return kExitIo;  // the reader has gone: end quietly (below)
       return fail(kExitIo, "error", fmt::format("cannot write to standard output: {}", std::strerror(errno)));
+    }
     return kExitOk;
   } catch (const UsageError& e) {
     const int code = fail(kExitUsage, "usage error", e.what());
@@ -128,7 +135,8 @@ int main(int argc, char** argv) {
     return fail(kExitInput, "unsupported", e.what());
   } catch (const trivox::Error& e) {  // InputError, ModelError, settings the job cannot take
     return fail(kExitInput, "error", e.what());
-  } catch (const std::system_error& e) {  // failed writes (fmt), filesystem errors
+  } catch (const std::system_error& e) {                     // failed writes (fmt), filesystem errors
+    if (e.code() == std::errc::broken_pipe) return kExitIo;  // the reader of a pipe has gone
     return fail(kExitIo, "error", e.what());
   } catch (const std::bad_alloc&) {
     return fail(kExitInternal, "internal error", "out of memory");

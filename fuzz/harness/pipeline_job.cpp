@@ -220,7 +220,7 @@ json extruded_plate(ByteChoices& c) {
 }
 
 // The hostile inputs of the last choices: a mesh trim from a staged file, a construction cache
-// whose entries are damaged before the second read.
+// whose entries are damaged before the second read, greyscale settings.
 void add_hostile_inputs(ByteChoices& c, json& scene, PipelineJob& job) {
   if (c.pick(3) == 1) {
     job.files.emplace_back("trim.stl", trim_stl(c));
@@ -230,6 +230,19 @@ void add_hostile_inputs(ByteChoices& c, json& scene, PipelineJob& job) {
   }
   job.cache_damage = c.pick(kCacheDamages);
   if (job.cache_damage != kNoCache) scene["cells"][0]["geometry"] = extruded_plate(c);
+  // Greyscale settings of a resin printer: a scalar source that may be NaN or infinite
+  // somewhere (the slicer must stop there, naming the cell), exposures in and out of what the
+  // printer takes (refused when the scene is read), any anti-aliasing.
+  if (scene.contains("greyscale") && c.coin()) {
+    constexpr std::array<std::string_view, 6> kSources = {"x",           "u * v + w",   "sqrt(w - 0.5)",
+                                                          "1 / (u - u)", "ln(u) + 0.5", "sin(1e6 * x)"};
+    json& g = scene["greyscale"];
+    g["source"] = std::string(kSources[static_cast<std::size_t>(c.pick(6))]);
+    g["curve"] = {{-1, 10 + c.pick(50)}, {1 + c.log_uniform(1e-3, 1e3), 255}};
+    g["antialiasing"] = 1 + c.pick(8);
+    if (c.coin()) g["exposure_s"] = c.log_uniform(0.1, 1e3);
+    if (c.coin()) g["initial_exposure_s"] = c.log_uniform(1.0, 1e4);
+  }
 }
 
 }  // namespace

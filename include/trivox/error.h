@@ -10,6 +10,7 @@
 // the command-line program turns errors into messages and exit codes.
 #pragma once
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -82,5 +83,9 @@ class EmptyResultError : public Error {
 // start) with its length: 'aaaa...' (1000000 characters). Messages stay one readable line
 // whatever the input holds.
 std::string shown_name(std::string_view name, char quote = '\'');
+
+// The first control character (below 0x20, or 0x7F) of `text`, or nullopt: names that go into
+// files and manifests hold none (one rule for output file names and manifest entries).
+std::optional<unsigned char> first_control_character(std::string_view text);
 
 }  // namespace trivox

@@ -65,6 +65,14 @@ inline constexpr long long kMaxLayerPixels = 1LL << 30;
 // as overflowing, rather than found later as an infinite or undefined det J.
 inline constexpr double kMaxModelNumber = 1e100;
 
+// The largest ratio of one spline's largest weight to its smallest. Weights from 1e-6 to 1e6
+// (a ratio of 1e12) are legal and sliced; far beyond, the weights squeeze most of the image
+// into a slab of the parameter domain thinner than a double resolves next to the knots (a
+// cell weighted 1e-3 to 1e300 maps a whole box onto parameters that round to one value), so
+// the inversion cannot find its points and spends minutes failing. Such a spline is refused
+// where it is built, with a message about the weights' range.
+inline constexpr double kMaxWeightRatio = 1e12;
+
 // Coordinates per control point in a model file (G+Smo's geoDim, GoTools' dimension).
 inline constexpr int kMaxModelPointDim = 1000;
 // Auxiliary integers in the header of one GoTools object (a colour takes 4).

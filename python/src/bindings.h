@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -69,6 +70,9 @@ struct SceneHandle {
 struct PySlicer {
   ScenePtr scene;
   std::unique_ptr<Slicer> slicer;
+  // The slicer's stop flag (SliceParams::stop): a job raises it with its own on Ctrl-C, so that
+  // the layers in progress end within a row (job.cpp); lowered when a job or a layer starts.
+  mutable std::atomic<bool> stop{false};
 };
 
 // A layer's counts (or a job's sum) as a dict with stats.json's names (visit_layer_stats);

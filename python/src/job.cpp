@@ -98,12 +98,12 @@ void check_formats(const std::vector<std::string>& formats) {
 // Checks the settings (ValueError) before anything is locked or written, then locks the folder.
 std::unique_ptr<PyJob> make_job(const std::filesystem::path& output_dir, const std::vector<std::string>& formats,
                                 int first_layer, int last_layer, int threads, const std::string& prefix,
-                                const std::optional<std::vector<int>>& background, int min_layers,
+                                const std::optional<std::vector<int>>& background, std::optional<int> min_layers,
                                 const std::vector<int>& preview_layers, int shard_index, int shard_count, bool resume,
                                 bool checks, std::optional<double> memory_limit_mb, double manifest_interval_seconds,
                                 bool construction_cache, bool allow_empty) {
   if (threads < 0) throw py::value_error("threads must be >= 0 (0: every core)");
-  if (min_layers < 0) throw py::value_error("min_layers must be >= 0");
+  if (min_layers && *min_layers < 0) throw py::value_error("min_layers must be >= 0");
   if (!(manifest_interval_seconds >= 0.0)) throw py::value_error("manifest_interval_seconds must be >= 0");
   check_formats(formats);
   auto py_job = std::make_unique<PyJob>();
@@ -133,7 +133,9 @@ std::unique_ptr<PyJob> make_job(const std::filesystem::path& output_dir, const s
 }
 
 // Runs the job on a thread of its own while this one serves progress and Ctrl-C (above).
-JobStats run_with_progress(PyJob& py_job, const Slicer& slicer, const py::object& progress) {
+JobStats run_with_progress(PyJob& py_job, const PySlicer& py_slicer, const py::object& progress) {
+  const Slicer& slicer = *py_slicer.slicer;
+  py_slicer.stop = false;
   SliceJob& job = py_job.open();
   QueuedProgress sink;
   JobStats stats;
@@ -160,6 +162,7 @@ JobStats run_with_progress(PyJob& py_job, const Slicer& slicer, const py::object
     } catch (py::error_already_set& e) {
       raised = std::move(e);
       py_job.stop = true;
+      py_slicer.stop = true;  // the layers in progress end within a row
     }
   }
   {
@@ -178,7 +181,7 @@ py::dict run_job(PyJob& py_job, const PySlicer& s, const py::object& progress) {
     py::gil_scoped_release release;
     job.check_fits(*s.slicer);
   }
-  const JobStats stats = run_with_progress(py_job, *s.slicer, progress);
+  const JobStats stats = run_with_progress(py_job, s, progress);
   job.check_result(stats);
   py::dict out;
   py::list layers;

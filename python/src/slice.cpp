@@ -43,6 +43,7 @@ std::unique_ptr<PySlicer> make_slicer(const SceneHandle& handle, const std::stri
   if (vary_by_layer) d.vary_by_layer = *vary_by_layer;
   params.dither = d;
   auto s = std::make_unique<PySlicer>();
+  params.stop = &s->stop;
   s->scene = handle.scene;
   {
     py::gil_scoped_release release;
@@ -57,6 +58,7 @@ py::dict slice_one(const PySlicer& s, int layer, bool fractions, bool owner) {
     throw py::index_error("layer " + std::to_string(layer) + " is out of range: the scene has " +
                           std::to_string(L.num_layers) + " layers (0 to " + std::to_string(L.num_layers - 1) + ")");
   LayerResult r;
+  s.stop = false;
   {
     py::gil_scoped_release release;
     r = s.slicer->slice_layer(layer, {.owner = owner, .rasters = fractions});

@@ -3,6 +3,10 @@ and SCENE.md's examples), and a Python callable material gives the output of the
 expression material, bit for bit, called once per row of voxels; its errors reach the caller."""
 
 import json
+import os
+import signal
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -68,6 +72,31 @@ def test_the_python_material_is_called_once_per_row_not_per_voxel():
     assert sum(samples) == inside > 0
     assert len(calls) <= slicer.layout.height_px  # a single cell: at most one call per row
     assert max(calls) > 100
+
+
+def test_ctrl_c_during_a_slow_python_material_stops_the_job_within_a_row(tmp_path):
+    rows = []
+    trivox.Slicer(column_scene(lambda u, v, w, x, y, z: rows.append(len(u)) or python_material(u, v, w, x, y, z)))\
+        .slice_layer(1000)
+    assert len(rows) > 60  # the rows of the layer that hold the column
+    calls = []
+
+    def slow(u, v, w, x, y, z):
+        calls.append(len(u))
+        if len(calls) == 3:
+            # What Ctrl-C does: SIGINT from elsewhere, while the layer is being evaluated.
+            threading.Thread(target=os.kill, args=(os.getpid(), signal.SIGINT)).start()
+        time.sleep(0.05)
+        return python_material(u, v, w, x, y, z)
+
+    # Without the checks, whose sample layer would meet the signal before the job starts (and
+    # leave nothing written, as the program does).
+    with pytest.raises(KeyboardInterrupt):
+        trivox.slice(trivox.Slicer(column_scene(slow)), tmp_path, layers=range(1000, 1001), min_layers=0, threads=1,
+                     checks=False)
+    # Python looks for the signal every tenth of a second: a few rows more, never the layer's rest.
+    assert 3 <= len(calls) <= 3 + 20 < len(rows)
+    assert json.loads((tmp_path / "manifest.json").read_text())["status"] == "interrupted"
 
 
 def test_the_fraction_policy_applies_and_names_the_cell():

@@ -130,7 +130,7 @@ def slice(  # noqa: A001 - the verb is the API's name
     threads: int = 0,
     prefix: str = "slice_",
     background: Optional[Sequence[int]] = None,
-    min_layers: int = 30,
+    min_layers: Optional[int] = None,
     preview: Sequence[int] = (),
     shard: Optional[Tuple[int, int]] = None,
     resume: bool = False,
@@ -149,7 +149,9 @@ def slice(  # noqa: A001 - the verb is the API's name
     layers, 0-based (``--layers 51:450`` is ``layers=range(50, 450)``); preview: 0-based layers
     also written as preview images (``--preview 80`` is ``preview=[79]``); shard: (I, N) as
     ``--shard I/N``; resume: continue the job recorded in the folder's manifest; progress:
-    progress(done, total) called on this thread after layers complete; checks: refuse a job
+    progress(done, total) called on this thread after layers complete; min_layers: pad the
+    stack with empty layers up to this many (None: 30 when a format GrabCAD Voxel Print reads,
+    voxelprint or gcvf, is written, else 0, as ``--min-layers`` left out); checks: refuse a job
     the estimate says will not fit the disk or the memory (memory_limit_mb, default the
     machine's); construction_cache: read the scene through the folder's construction cache
     (``--no-cache`` is False); allow_empty: accept a stack without a voxel of the object
@@ -164,7 +166,8 @@ def slice(  # noqa: A001 - the verb is the API's name
 
     Ctrl-C (KeyboardInterrupt), or an exception raised by `progress`, stops the job: no new
     layer starts, the manifest is marked interrupted, and the exception is raised once the
-    running layers have finished; ``resume=True`` continues it.
+    layers in progress have stopped (within a row of voxels: a slow Python material is not run
+    to the end of its layer); ``resume=True`` continues it.
     """
     if isinstance(scene, Slicer) and settings:
         raise TypeError("give the slicing settings to the Slicer, not to slice()")
@@ -193,7 +196,7 @@ def _run(
     threads: int = 0,
     prefix: str = "slice_",
     background: Optional[Sequence[int]] = None,
-    min_layers: int = 30,
+    min_layers: Optional[int] = None,
     preview: Sequence[int] = (),
     shard: Optional[Tuple[int, int]] = None,
     resume: bool = False,

@@ -328,6 +328,7 @@ void G2Reader::read_object(Model& model, int object) {
   }
   try {
     TensorSpline spline(std::move(knots), dim, std::move(points), std::move(weights));
+    if (const auto problem = io_detail::rational_numbers_problem(spline)) throw ModelError(*problem);
     const int index = static_cast<int>(model.patches.size());
     Patch patch{fmt::format("{} #{}", name, object), index, line, std::move(spline)};
     patch.header_aux = std::move(aux);

@@ -239,7 +239,9 @@ TensorSpline GismoReader::read_geometry(pugi::xml_node geometry) const {
     ctx_.fail(coefs, fmt::format("<coefs> holds {} numbers; {} basis functions times geoDim {} need {}", values.size(),
                                  total, geo_dim, total * geo_dim));
   try {
-    return TensorSpline(std::move(knots), static_cast<int>(geo_dim), std::move(values), std::move(weights));
+    TensorSpline spline(std::move(knots), static_cast<int>(geo_dim), std::move(values), std::move(weights));
+    if (const auto problem = io_detail::rational_numbers_problem(spline)) throw ModelError(*problem);
+    return spline;
   } catch (const ModelError& e) {
     ctx_.fail(geometry, e.what());
   }

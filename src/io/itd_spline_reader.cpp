@@ -14,6 +14,7 @@
 #include <fmt/ranges.h>
 
 #include "io/itd_parser.h"
+#include "io/text_number.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/limits.h"
@@ -96,6 +97,7 @@ void ItdParser::read_geometry(const Token& keyword, int param_dim) {
 
   try {
     TensorSpline spline(std::move(knots), pt.dim, std::move(points), std::move(weights));
+    if (const auto problem = io_detail::rational_numbers_problem(spline)) throw ModelError(*problem);
     patches_.push_back(Patch{object_name(), 0, keyword.line, std::move(spline)});
   } catch (const ModelError& e) {
     fail(keyword.line, where, e.what());

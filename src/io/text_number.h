@@ -15,6 +15,7 @@
 #include <fmt/format.h>
 
 #include "trivox/limits.h"
+#include "trivox/spline/tensor_spline.h"
 
 namespace trivox::io_detail {
 
@@ -59,6 +60,28 @@ inline std::optional<std::string> model_number_problem(double v, std::string_vie
         "'{}' overflows: numbers beyond {:g} overflow the volume's derivatives and det J, and lose all precision "
         "beside the rest of the model",
         text, kMaxModelNumber);
+  return std::nullopt;
+}
+
+// Why the rational spline `s`, read from a model file, could not be written back to one that
+// reads again: its coordinates x (G+Smo files hold them) and weighted coordinates w * x (IRIT and
+// GoTools files hold them) must be numbers a model file may hold (kMaxModelNumber). The readers
+// divide w * x by w and the writers multiply back, which may round just past the limit: the
+// weighted coordinates keep a margin of a hundred-trillionth below it, room for that and for
+// the few ulps by which the .g2 writer moves a product so that it divides back exactly.
+// nullopt for a polynomial spline, whose numbers are the file's own.
+inline std::optional<std::string> rational_numbers_problem(const TensorSpline& s) {
+  constexpr double kWeightedLimit = kMaxModelNumber * (1.0 - 1e-14);
+  const auto dim = static_cast<std::size_t>(s.point_dim());
+  for (std::size_t i = 0; i < s.weights().size(); ++i)
+    for (std::size_t c = 0; c < dim; ++c) {
+      const double x = s.points()[i * dim + c], w = s.weights()[i];
+      if (!(std::abs(w * x) <= kWeightedLimit) || !(std::abs(x) <= kMaxModelNumber))
+        return fmt::format(
+            "control point {}: weight {} times coordinate {} is {}, which overflows: a rational spline's "
+            "coordinates and weighted coordinates are numbers of at most {:g} in magnitude, as in a model file",
+            i, w, x, w * x, kMaxModelNumber);
+    }
   return std::nullopt;
 }
 

@@ -55,6 +55,13 @@ std::vector<ManifestFile> intact_files(const std::filesystem::path& dir, const J
 
 }  // namespace
 
+int min_layers_of(const JobParams& params) {
+  if (params.min_layers) return *params.min_layers;
+  const bool voxel_print = std::any_of(params.formats.begin(), params.formats.end(),
+                                       [](const std::string& f) { return layer_writer_feeds_voxel_print(f); });
+  return voxel_print ? JobParams::kVoxelPrintMinLayers : 0;
+}
+
 namespace detail {
 
 LayerRange layer_range(const SliceLayout& L, const JobParams& params) {
@@ -65,7 +72,7 @@ LayerRange layer_range(const SliceLayout& L, const JobParams& params) {
     throw Error(fmt::format("layer range {}:{} selects no layer of the {} the model has", params.first_layer + 1,
                             params.last_layer + 1, L.num_layers));
   r.count = r.last - r.first + 1;
-  r.padded = std::max(0, params.min_layers - r.count);
+  r.padded = std::max(0, min_layers_of(params) - r.count);
   return r;
 }
 
@@ -94,7 +101,7 @@ JobManifest job_manifest(const Slicer& slicer, const JobParams& params) {
       {"pitch_mm", fmt::format("{},{},{}", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm)},
       {"model_layers", fmt::format("{}", L.num_layers)},
       {"layers", fmt::format("{}:{}", range.first + 1, range.last + 1)},
-      {"min_layers", fmt::format("{}", params.min_layers)},
+      {"min_layers", fmt::format("{}", min_layers_of(params))},
       {"formats", fmt::format("{}", fmt::join(params.formats, ","))},
       {"preview_layers", fmt::format("{}", fmt::join(params.preview_layers, ","))},
       {"prefix", params.prefix},
@@ -127,8 +134,8 @@ void check_job_settings(const Slicer& slicer, const JobParams& params) {
   if (scene.num_materials() > scene.printer.max_materials)
     throw Error(fmt::format("{}: the scene uses {} materials but printer profile '{}' takes at most {} per job",
                             scene.source, scene.num_materials(), scene.printer.name, scene.printer.max_materials));
-  if (params.min_layers < 0 || params.min_layers > JobParams::kMaxMinLayers)
-    throw Error(fmt::format("min_layers is {}: a stack is padded to 0 to {} layers", params.min_layers,
+  if (min_layers_of(params) < 0 || min_layers_of(params) > JobParams::kMaxMinLayers)
+    throw Error(fmt::format("min_layers is {}: a stack is padded to 0 to {} layers", min_layers_of(params),
                             JobParams::kMaxMinLayers));
   // Voxel Print's colour limit holds whatever the printer profile says.
   for (const std::string& format : params.formats)

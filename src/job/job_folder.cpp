@@ -192,9 +192,14 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
   return {};
 }
 
+void throw_if_stopped(const std::atomic<bool>* stop, const char* during) {
+  if (stop != nullptr && stop->load(std::memory_order_relaxed))
+    throw CancelledError(fmt::format("stopped while {}", during));
+}
+
 }  // namespace
 
-JobManifest merge_shards(const std::filesystem::path& dir) {
+JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<bool>* stop) {
   int count = 0;
   const auto shards = shard_manifests(dir, &count);
   if (shards.empty())
@@ -243,6 +248,7 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
       if (o != 0 && o != index)
         throw Error(fmt::format("{}: layer {} is in shard {} and shard {}", dir.string(), f.layer, o, index));
       o = index;
+      throw_if_stopped(stop, "merging the shards");
       if (const std::string problem = file_problem(dir, f); !problem.empty())
         throw Error(fmt::format("cannot merge: {}", problem));
       merged.files.push_back(f);
@@ -264,7 +270,7 @@ JobManifest merge_shards(const std::filesystem::path& dir) {
   return merged;
 }
 
-VerifyReport verify_output(const std::filesystem::path& dir) {
+VerifyReport verify_output(const std::filesystem::path& dir, const std::atomic<bool>* stop) {
   const std::filesystem::path path = dir / manifest_file_name(1, 1);
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) {
@@ -285,6 +291,7 @@ VerifyReport verify_output(const std::filesystem::path& dir) {
   for (const ManifestFile& f : m.files) {
     if (f.layer > 0) has_files[static_cast<std::size_t>(f.layer - 1)] = 1;
     ++report.files_checked;
+    throw_if_stopped(stop, "verifying the files");
     std::string problem = file_problem(dir, f);
     if (problem.empty()) problem = decode_problem(dir / f.name, m);
     if (!problem.empty()) report.problems.push_back(std::move(problem));

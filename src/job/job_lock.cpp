@@ -133,74 +133,119 @@ std::vector<std::string> running_shards(const std::filesystem::path& dir) {
 
 }  // namespace
 
+std::optional<std::string> output_folder_problem(const std::filesystem::path& dir) {
+  const auto problem = [&](const std::string& reason) {
+    return fmt::format("{}: cannot create output folder: {}", dir.string(), reason);
+  };
+  std::error_code ec;
+  std::filesystem::path existing = dir.empty() ? std::filesystem::path(".") : dir;
+  while (!std::filesystem::exists(std::filesystem::symlink_status(existing, ec)) && existing.has_relative_path()) {
+    if (!existing.has_parent_path() || existing.parent_path() == existing) {
+      existing = existing.is_absolute() ? existing.root_path() : std::filesystem::path(".");
+      break;
+    }
+    existing = existing.parent_path();
+  }
+  const std::filesystem::file_status link = std::filesystem::symlink_status(existing, ec);
+  const std::filesystem::file_status target = std::filesystem::status(existing, ec);
+  if (std::filesystem::is_symlink(link) && !std::filesystem::exists(target))
+    return problem(fmt::format("{} is a link to nothing", existing.string()));
+  if (!std::filesystem::is_directory(target))
+    return problem(existing == dir ? std::string("it exists and is not a folder")
+                                   : fmt::format("{} exists and is not a folder", existing.string()));
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    return problem(fmt::format("{}: {}", existing.string(), errno_text(errno)));
+  return std::nullopt;
+}
+
 std::string job_lock_file_name() { return ".trivox.lock"; }
 std::string shard_lock_file_name(int shard_index) { return fmt::format(".trivox-shard-{}.lock", shard_index); }
 
+struct JobFolderLock::Held {
+  std::filesystem::path dir;
+  int shard_index = 1, shard_count = 1;
+  int folder_fd = -1;  // .trivox.lock
+  int shard_fd = -1;   // .trivox-shard-I.lock, shards only
+  std::optional<std::string> taken_over_from{};
+  std::uint64_t line_bytes = 0;  // the holder line at the start of the job's own lock file
+  std::uint64_t reserved = 0;    // bytes held after it
+};
+
 JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, int shard_count)
-    : dir_(dir), shard_index_(shard_index), shard_count_(shard_count) {
+    : held_(std::make_unique<Held>(Held{dir, shard_index, shard_count})) {
+  Held& h = *held_;
+  if (auto problem = output_folder_problem(h.dir)) throw IoError(std::move(*problem));
   std::error_code ec;
-  std::filesystem::create_directories(dir_, ec);
-  if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", dir_.string(), ec.message()));
-  const std::filesystem::path folder_lock = dir_ / job_lock_file_name();
-  const bool sharded = shard_count_ > 1;
-  folder_fd_ = try_lock(folder_lock, sharded ? LOCK_SH : LOCK_EX);
-  if (folder_fd_ < 0) {
+  std::filesystem::create_directories(h.dir, ec);
+  if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", h.dir.string(), ec.message()));
+  const std::filesystem::path folder_lock = h.dir / job_lock_file_name();
+  const bool sharded = h.shard_count > 1;
+  h.folder_fd = try_lock(folder_lock, sharded ? LOCK_SH : LOCK_EX);
+  if (h.folder_fd < 0) {
     // A whole job holds it (its line is in the file), or running shards hold it shared.
-    const std::vector<std::string> shards = running_shards(dir_);
+    const std::vector<std::string> shards = running_shards(h.dir);
     std::string holders = shards.empty() ? holder_text(holder_line(folder_lock)) : std::string();
     for (const std::string& s : shards) holders += (holders.empty() ? "" : ", ") + s;
-    refuse(dir_, folder_lock, holders);
+    refuse(h.dir, folder_lock, holders);
   }
   if (!sharded) {
-    const std::string previous = holder_line(folder_fd_);
-    if (!previous.empty()) taken_over_from_ = previous;
+    const std::string previous = holder_line(h.folder_fd);
+    if (!previous.empty()) h.taken_over_from = previous;
     try {
-      line_bytes_ = write_holder(folder_fd_, folder_lock);
+      h.line_bytes = write_holder(h.folder_fd, folder_lock);
     } catch (...) {
-      release(folder_fd_, folder_lock, true);
+      release(h.folder_fd, folder_lock, true);
       throw;
     }
     return;
   }
-  const std::filesystem::path shard_lock = dir_ / shard_lock_file_name(shard_index_);
+  const std::filesystem::path shard_lock = h.dir / shard_lock_file_name(h.shard_index);
   try {
-    shard_fd_ = try_lock(shard_lock, LOCK_EX);
+    h.shard_fd = try_lock(shard_lock, LOCK_EX);
   } catch (...) {
-    release(folder_fd_, folder_lock, false);
+    release(h.folder_fd, folder_lock, false);
     throw;
   }
-  if (shard_fd_ < 0) {
-    release(folder_fd_, folder_lock, false);
-    refuse(dir_, shard_lock, holder_text(holder_line(shard_lock)));
+  if (h.shard_fd < 0) {
+    release(h.folder_fd, folder_lock, false);
+    refuse(h.dir, shard_lock, holder_text(holder_line(shard_lock)));
   }
-  const std::string previous = holder_line(shard_fd_);
-  if (!previous.empty()) taken_over_from_ = previous;
+  const std::string previous = holder_line(h.shard_fd);
+  if (!previous.empty()) h.taken_over_from = previous;
   try {
-    line_bytes_ = write_holder(shard_fd_, shard_lock);
+    h.line_bytes = write_holder(h.shard_fd, shard_lock);
   } catch (...) {
-    release(shard_fd_, shard_lock, true);
-    release(folder_fd_, folder_lock, false);
+    release(h.shard_fd, shard_lock, true);
+    release(h.folder_fd, folder_lock, false);
     throw;
   }
 }
 
 bool JobFolderLock::reserve_bytes(std::uint64_t bytes) {
-  const int fd = shard_fd_ >= 0 ? shard_fd_ : folder_fd_;
-  if (bytes <= reserved_) return true;
+  Held& h = *held_;
+  const int fd = h.shard_fd >= 0 ? h.shard_fd : h.folder_fd;
+  if (bytes <= h.reserved) return true;
   // Blocks actually allocated (not a sparse extension), so that freeing them makes room.
-  if (::posix_fallocate(fd, static_cast<off_t>(line_bytes_), static_cast<off_t>(bytes)) != 0) return false;
-  reserved_ = bytes;
+  if (::posix_fallocate(fd, static_cast<off_t>(h.line_bytes), static_cast<off_t>(bytes)) != 0) return false;
+  h.reserved = bytes;
   return true;
 }
 
 void JobFolderLock::release_reserve() noexcept {
-  const int fd = shard_fd_ >= 0 ? shard_fd_ : folder_fd_;
-  if (reserved_ > 0 && ::ftruncate(fd, static_cast<off_t>(line_bytes_)) == 0) reserved_ = 0;
+  Held& h = *held_;
+  const int fd = h.shard_fd >= 0 ? h.shard_fd : h.folder_fd;
+  if (h.reserved > 0 && ::ftruncate(fd, static_cast<off_t>(h.line_bytes)) == 0) h.reserved = 0;
 }
 
 JobFolderLock::~JobFolderLock() {
-  release(shard_fd_, dir_ / shard_lock_file_name(shard_index_), true);
-  release(folder_fd_, dir_ / job_lock_file_name(), shard_fd_ < 0);
+  const Held& h = *held_;
+  release(h.shard_fd, h.dir / shard_lock_file_name(h.shard_index), true);
+  release(h.folder_fd, h.dir / job_lock_file_name(), h.shard_fd < 0);
 }
+
+const std::filesystem::path& JobFolderLock::dir() const noexcept { return held_->dir; }
+int JobFolderLock::shard_index() const noexcept { return held_->shard_index; }
+int JobFolderLock::shard_count() const noexcept { return held_->shard_count; }
+const std::optional<std::string>& JobFolderLock::taken_over_from() const noexcept { return held_->taken_over_from; }
 
 }  // namespace trivox

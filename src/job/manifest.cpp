@@ -114,6 +114,15 @@ class Reader {
     if (!v.is_string()) fail(where + "/" + key, "must be a string");
     return v.get<std::string>();
   }
+  // A name (of an input, a cell, a file): a string without NUL or other control characters,
+  // which would cut or garble every message that shows it.
+  std::string name(const Json& obj, const std::string& key, const std::string& where) const {
+    std::string text = str(obj, key, where);
+    if (const auto c = first_control_character(text))
+      fail(where + "/" + key,
+           fmt::format("{} holds the control character 0x{:02X}; names hold none", shown_name(text, '"'), *c));
+    return text;
+  }
   std::int64_t integer(const Json& obj, const std::string& key, const std::string& where, std::int64_t lo,
                        std::int64_t hi) const {
     const Json& v = at(obj, key, where);
@@ -155,7 +164,7 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const std::string where = fmt::format("/inputs/{}", i);
     m.inputs.push_back(
-        {r.str(inputs[i], "role", where), r.str(inputs[i], "name", where), r.str(inputs[i], "sha256", where)});
+        {r.str(inputs[i], "role", where), r.name(inputs[i], "name", where), r.str(inputs[i], "sha256", where)});
   }
   const Json& settings = r.at(doc, "settings", "");
   if (!settings.is_object()) r.fail("/settings", "must be an object");
@@ -174,7 +183,7 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const std::string where = fmt::format("/scene_parts/cells/{}", i);
       ManifestCell c;
-      c.name = r.str(cells[i], "name", where);
+      c.name = r.name(cells[i], "name", where);
       c.sha256 = r.str(cells[i], "sha256", where);
       const Json& layers = r.at(cells[i], "layers", where);
       if (!layers.is_array() || layers.size() != 2 || !layers[0].is_number_integer() || !layers[1].is_number_integer())
@@ -194,11 +203,12 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
     const std::string where = fmt::format("/files/{}", i);
     ManifestFile f;
     f.layer = static_cast<int>(r.integer(files[i], "layer", where, 0, m.total_layers));
-    f.name = r.str(files[i], "name", where);
+    f.name = r.name(files[i], "name", where);
     // Names stay inside the folder: no absolute paths, no "..".
     const std::filesystem::path p(f.name);
     if (f.name.empty() || p.is_absolute() || std::find(p.begin(), p.end(), "..") != p.end())
-      r.fail(where + "/name", fmt::format("\"{}\" is not a relative path inside the output folder", f.name));
+      r.fail(where + "/name",
+             fmt::format("{} is not a relative path inside the output folder", shown_name(f.name, '"')));
     f.bytes =
         static_cast<std::uint64_t>(r.integer(files[i], "bytes", where, 0, std::numeric_limits<std::int64_t>::max()));
     f.sha256 = r.str(files[i], "sha256", where);

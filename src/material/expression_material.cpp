@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <mutex>
 #include <numbers>
 #include <optional>
 
@@ -26,6 +27,15 @@ struct ExpressionMaterial::Trees {
 struct ExpressionMaterial::Evaluator {
   double u = 0, v = 0, w = 0, x = 0, y = 0, z = 0;
   std::vector<std::unique_ptr<mu::Parser>> parsers;  // null for an empty expression (0)
+};
+
+struct ExpressionMaterial::State {
+  ExpressionParams params;
+  AffineParamMap map;
+  std::unique_ptr<Trees> trees{};
+  // Evaluators not in use: a row takes one under the mutex and gives it back (the header).
+  std::mutex pool_mutex{};
+  std::vector<std::unique_ptr<Evaluator>> pool{};
 };
 
 namespace {
@@ -64,12 +74,12 @@ int expression_count(const ExpressionParams& params) { return static_cast<int>(p
 
 ExpressionMaterial::ExpressionMaterial(ExpressionParams params, const ParamBox& cell_domain)
     : MaterialFunction(expression_count(params)),
-      params_(std::move(params)),
-      map_(AffineParamMap::between(cell_domain, kUnitParamBox)) {
-  check_constant_names(params_);
+      // State holds a mutex, which cannot move: built in place.
+      state_(new State{std::move(params), AffineParamMap::between(cell_domain, kUnitParamBox)}) {
+  check_constant_names(state_->params);
   // Building the first evaluator parses every expression, so errors surface here and not in
   // the middle of a slice; it then serves the first thread that evaluates.
-  pool_.push_back(make_evaluator());
+  state_->pool.push_back(make_evaluator());
   build_trees();
 }
 
@@ -102,17 +112,17 @@ bool same_value(double a, double b) {
 }  // namespace
 
 void ExpressionMaterial::build_trees() {
-  trees_ = std::make_unique<Trees>();
-  Evaluator& ev = *pool_.front();
+  state_->trees = std::make_unique<Trees>();
+  Evaluator& ev = *state_->pool.front();
   const auto points = check_points();
-  for (std::size_t j = 0; j < params_.expressions.size(); ++j) {
-    const std::string& text = params_.expressions[j];
+  for (std::size_t j = 0; j < state_->params.expressions.size(); ++j) {
+    const std::string& text = state_->params.expressions[j];
     if (text.empty()) {
-      trees_->trees.emplace_back();
-      trees_->trusted.push_back(true);
+      state_->trees->trees.emplace_back();
+      state_->trees->trusted.push_back(true);
       continue;
     }
-    std::optional<detail::ExpressionTree> tree = detail::ExpressionTree::parse(text, params_.constants);
+    std::optional<detail::ExpressionTree> tree = detail::ExpressionTree::parse(text, state_->params.constants);
     bool agrees = tree.has_value();
     for (const auto& p : points) {
       if (!agrees) break;
@@ -124,13 +134,13 @@ void ExpressionMaterial::build_trees() {
       ev.z = p[5];
       agrees = same_value(tree->evaluate(p), ev.parsers[j]->Eval());
     }
-    trees_->trees.push_back(agrees ? std::move(tree) : std::nullopt);
-    trees_->trusted.push_back(agrees);
+    state_->trees->trees.push_back(agrees ? std::move(tree) : std::nullopt);
+    state_->trees->trusted.push_back(agrees);
   }
 }
 
 bool ExpressionMaterial::boundable() const noexcept {
-  return std::all_of(trees_->trusted.begin(), trees_->trusted.end(), [](bool t) { return t; });
+  return std::all_of(state_->trees->trusted.begin(), state_->trees->trusted.end(), [](bool t) { return t; });
 }
 
 namespace {
@@ -190,7 +200,7 @@ FractionEnclosure ExpressionMaterial::enclose(const ParamBox& box, const Box3& x
   if (!boundable()) return FractionEnclosure::unknown(num_materials());
   // The variables' box: normalised parameters (clamped, as evaluate_row clamps them) and the
   // positions; and its centre.
-  const ParamBox unit = map_(box);
+  const ParamBox unit = state_->map(box);
   Vars vars, centre;
   for (int d = 0; d < 3; ++d) {
     const double lo = std::clamp(std::min(unit.lo[d], unit.hi[d]), 0.0, 1.0);
@@ -200,7 +210,7 @@ FractionEnclosure ExpressionMaterial::enclose(const ParamBox& box, const Box3& x
   }
   for (std::size_t i = 0; i < vars.size(); ++i) centre[i] = detail::IV::point(0.5 * (vars[i].lo + vars[i].hi));
   std::vector<std::string> undecided;
-  CaseEnclosure all = enclose_case(trees_->trees, vars, centre, {}, &undecided);
+  CaseEnclosure all = enclose_case(state_->trees->trees, vars, centre, {}, &undecided);
   // Comparisons undecided over the box: every assignment of them is a case, and the point's
   // values lie in one case's enclosure.
   if (!undecided.empty() && undecided.size() <= kMaxCaseConditions) {
@@ -209,7 +219,7 @@ FractionEnclosure ExpressionMaterial::enclose(const ParamBox& box, const Box3& x
       detail::ExpressionTree::Forced forced;
       for (std::size_t c = 0; c < undecided.size(); ++c)
         forced.emplace_back(undecided[c], (bits >> c) & 1u ? 1.0 : 0.0);
-      const CaseEnclosure one = enclose_case(trees_->trees, vars, centre, forced, nullptr);
+      const CaseEnclosure one = enclose_case(state_->trees->trees, vars, centre, forced, nullptr);
       if (!hull) {
         hull = one;
         continue;
@@ -233,11 +243,13 @@ FractionEnclosure ExpressionMaterial::enclose(const ParamBox& box, const Box3& x
 
 ExpressionMaterial::~ExpressionMaterial() = default;
 
+const ExpressionParams& ExpressionMaterial::params() const noexcept { return state_->params; }
+
 std::unique_ptr<ExpressionMaterial::Evaluator> ExpressionMaterial::make_evaluator() const {
   auto ev = std::make_unique<Evaluator>();
   double* vars[] = {&ev->u, &ev->v, &ev->w, &ev->x, &ev->y, &ev->z};
-  for (std::size_t j = 0; j < params_.expressions.size(); ++j) {
-    const std::string& text = params_.expressions[j];
+  for (std::size_t j = 0; j < state_->params.expressions.size(); ++j) {
+    const std::string& text = state_->params.expressions[j];
     if (text.empty()) {
       ev->parsers.emplace_back();
       continue;
@@ -245,7 +257,7 @@ std::unique_ptr<ExpressionMaterial::Evaluator> ExpressionMaterial::make_evaluato
     auto parser = std::make_unique<mu::Parser>();
     try {
       parser->DefineConst("pi", std::numbers::pi);
-      for (const auto& [name, value] : params_.constants) parser->DefineConst(name, value);
+      for (const auto& [name, value] : state_->params.constants) parser->DefineConst(name, value);
       for (std::size_t k = 0; k < std::size(kVariables); ++k) parser->DefineVar(std::string(kVariables[k]), vars[k]);
       parser->SetExpr(text);
       parser->Eval();  // compiles the bytecode; syntax and unknown names fail here
@@ -263,12 +275,12 @@ void ExpressionMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const
   // this moment); the capacity grows with each new one, so returning it cannot allocate.
   std::unique_ptr<Evaluator> ev;
   {
-    const std::lock_guard lock(pool_mutex_);
-    if (!pool_.empty()) {
-      ev = std::move(pool_.back());
-      pool_.pop_back();
+    const std::lock_guard lock(state_->pool_mutex);
+    if (!state_->pool.empty()) {
+      ev = std::move(state_->pool.back());
+      state_->pool.pop_back();
     } else {
-      pool_.reserve(pool_.capacity() + 1);
+      state_->pool.reserve(state_->pool.capacity() + 1);
     }
   }
   if (!ev) ev = make_evaluator();
@@ -276,14 +288,14 @@ void ExpressionMaterial::evaluate_row(std::span<const Vec3> uvw, std::span<const
     const ExpressionMaterial& self;
     std::unique_ptr<Evaluator>& slot;
     ~Return() {
-      const std::lock_guard lock(self.pool_mutex_);
-      self.pool_.push_back(std::move(slot));
+      const std::lock_guard lock(self.state_->pool_mutex);
+      self.state_->pool.push_back(std::move(slot));
     }
   } give_back{*this, ev};
 
   const auto m = static_cast<std::size_t>(num_materials());
   for (std::size_t s = 0; s < uvw.size(); ++s) {
-    const Vec3 p = kUnitParamBox.clamp(map_(uvw[s]));
+    const Vec3 p = kUnitParamBox.clamp(state_->map(uvw[s]));
     ev->u = p.x;
     ev->v = p.y;
     ev->w = p.z;

@@ -153,16 +153,17 @@ struct LayerWriterFormat {
   std::unique_ptr<LayerWriter> (*make)(const OutputContext&);
   bool stack;                            // what its writers' needs_whole_stack() says
   bool names_files_by_material = false;  // bitmaps and legacy name their files after the materials
+  bool voxel_print = false;              // what GrabCAD Voxel Print reads (its stacks have a minimum height)
 };
 constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"voxelprint",
      [](const OutputContext& c) -> std::unique_ptr<LayerWriter> { return std::make_unique<VoxelPrintWriter>(c); },
-     false},
+     false, false, true},
     {"bitmaps", make_bitmaps_writer, false, true},
     {"legacy", detail::make_legacy_bitmap_writer, false, true},
     {"tiff", detail::make_tiff_stack_writer, true},
     {"vdb", detail::make_vdb_writer, true},
-    {"gcvf", detail::make_gcvf_writer, true},
+    {"gcvf", detail::make_gcvf_writer, true, false, true},
     {"greyscale", detail::make_greyscale_stack_writer, false},
     {"sl1", detail::make_sl1_writer, true},
     {"sl1s", detail::make_sl1s_writer, true},
@@ -189,15 +190,19 @@ bool layer_writer_names_files_by_material(std::string_view format) {
   return false;
 }
 
+bool layer_writer_feeds_voxel_print(std::string_view format) {
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.voxel_print;
+  return false;
+}
+
 std::optional<std::string> file_name_part_problem(std::string_view text) {
   if (text.size() > kMaxFileNamePartBytes)
     return fmt::format("it is {} bytes long, and at most {} go into a file name", text.size(), kMaxFileNamePartBytes);
   if (text.find('/') != std::string_view::npos) return std::string("it holds '/', a folder separator");
   if (text.find('\\') != std::string_view::npos) return std::string("it holds '\\', a folder separator on Windows");
   if (text.find("..") != std::string_view::npos) return std::string("it holds \"..\", the parent folder");
-  for (char c : text)
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      return fmt::format("it holds the control character 0x{:02X}", static_cast<unsigned char>(c));
+  if (const auto c = first_control_character(text)) return fmt::format("it holds the control character 0x{:02X}", *c);
   return std::nullopt;
 }
 

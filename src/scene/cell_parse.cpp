@@ -56,13 +56,13 @@ void add_cell(Scene& scene, SceneContext& ctx, const JsonView& entry, const Json
 void parse_cells(const JsonView& node, SceneContext& ctx, Scene& scene) {
   const std::vector<JsonView> cells = node.elements(1);
   for (std::size_t i = 0; i < cells.size(); ++i) {
+    // Between cells as within their constructions and mesh checks: a scene of many cells (each
+    // reading its model files) stops at the next cell.
+    if (ctx.stop() != nullptr && ctx.stop()->load()) throw CancelledError("stopped while reading the scene's cells");
     const JsonView& c = cells[i];
     c.expect_object({"name", "geometry", "volume", "placement", "material", "trim"});
     std::string base_name = fmt::format("cell {}", i);
-    if (const auto n = c.find("name")) {
-      base_name = n->string();
-      if (base_name.empty()) n->fail("a cell name must not be empty");
-    }
+    if (const auto n = c.find("name")) base_name = n->name("a cell");
     const JsonView name_field = c.find("name") ? c.at("name") : c;
     const JsonView material = c.at("material");
     if (const auto named = c.find("volume")) {
@@ -96,7 +96,7 @@ void parse_cells(const JsonView& node, SceneContext& ctx, Scene& scene) {
 void parse_union(const JsonView& u, SceneContext& ctx, Scene& scene) {
   u.expect_object({"name", "volumes", "regions"});
   const JsonView name = u.at("name");
-  if (name.string().empty()) name.fail("a union name must not be empty");
+  (void)name.name("a union");
   std::vector<int> members;
   const std::vector<JsonView> vols = u.at("volumes").elements(2, 4);
   for (const JsonView& v : vols) {
@@ -145,8 +145,7 @@ void parse_union(const JsonView& u, SceneContext& ctx, Scene& scene) {
     }
     std::string cell_name = name.string() + "/";
     if (const auto rn = e.find("name")) {
-      if (rn->string().empty()) rn->fail("a region name must not be empty");
-      cell_name += rn->string();
+      cell_name += rn->name("a region");
     } else {
       for (std::size_t k = 0; k < names.size(); ++k) cell_name += (k ? "+" : "") + names[k];
     }

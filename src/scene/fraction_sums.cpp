@@ -30,4 +30,16 @@ std::vector<CellFractionCheck> check_scene_fractions(const Scene& scene, const F
   return out;
 }
 
+std::vector<CellFractionCheck> check_scene_grey_sources(const Scene& scene, const FractionCheckParams& params) {
+  const FractionPolicy finite_only{SumPolicy::kNormalise, 0.0};
+  std::vector<CellFractionCheck> out;
+  for (std::size_t c = 0; c < scene.cells.size(); ++c) {
+    const Cell& cell = scene.cells[c];
+    if (!cell.grey_source) continue;
+    out.push_back({static_cast<int>(c), check_fractions(*cell.grey_source, finite_only, cell.volume.spline(),
+                                                        {"greyscale source"}, params)});
+  }
+  return out;
+}
+
 }  // namespace trivox

@@ -133,6 +133,14 @@ const std::string& JsonView::string() const {
   return value_->get_ref<const std::string&>();
 }
 
+const std::string& JsonView::name(std::string_view what) const {
+  const std::string& text = string();
+  if (text.empty()) fail(fmt::format("{} name must not be empty", what));
+  if (const auto c = first_control_character(text))
+    fail(fmt::format("{} name must hold no control character; {} holds 0x{:02X}", what, shown_name(text, '"'), *c));
+  return text;
+}
+
 bool JsonView::boolean() const {
   if (!value_->is_boolean()) fail(fmt::format("expected true or false, got {}", describe(*value_)));
   return value_->get<bool>();

@@ -51,6 +51,10 @@ class JsonView {
   int integer() const;                           // an integral number that fits an int
   int integer_in(int lo, int hi) const;          // an integer in [lo, hi]
   const std::string& string() const;
+  // A name the scene gives (a cell, a material, a union, a region): a string, not empty, without
+  // control characters (names go into messages, manifests and file names); `what` names the
+  // kind in the refusal ("a cell name must not be empty").
+  const std::string& name(std::string_view what) const;
   bool boolean() const;
   std::vector<double> numbers(std::size_t min_size = 0, std::size_t max_size = static_cast<std::size_t>(-1)) const;
 

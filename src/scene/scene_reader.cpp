@@ -208,8 +208,7 @@ std::vector<MaterialDef> parse_materials(const JsonView& node, const PrinterProf
     const bool named_only = e.is_string();
     if (!named_only) e.expect_object({"name", "rgba", "description"});
     const JsonView name = named_only ? e : e.at("name");
-    MaterialDef def{name.string(), {}, {}};
-    if (def.name.empty()) name.fail("a material name must not be empty");
+    MaterialDef def{name.name("a material"), {}, {}};
     const std::optional<LibraryMaterial> known = find_library_material(def.name);
     if (known) def.library = std::string(known->name);
     const std::optional<JsonView> rgba = named_only ? std::nullopt : e.find("rgba");
@@ -305,8 +304,18 @@ void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& sce
     node.at("curve").fail(e.what());
   }
   if (const auto k = node.find("antialiasing")) def.antialiasing = k->integer_in(1, 8);
-  if (const auto e = node.find("exposure_s")) def.exposure_s = positive(*e);
-  if (const auto e = node.find("initial_exposure_s")) def.initial_exposure_s = positive(*e);
+  // Within what the printer takes (a printer without a mask uses neither: the same limits).
+  const MaskedDisplay limits = scene.printer.display.value_or(MaskedDisplay{});
+  const auto exposure = [&](const JsonView& v, double lo, double hi) {
+    const double s = v.number();
+    if (!(s >= lo && s <= hi))
+      v.fail(fmt::format("an exposure of {:g} s is outside the {:g} to {:g} s the printer takes", s, lo, hi));
+    return s;
+  };
+  if (const auto e = node.find("exposure_s"))
+    def.exposure_s = exposure(*e, limits.min_exposure_s, limits.max_exposure_s);
+  if (const auto e = node.find("initial_exposure_s"))
+    def.initial_exposure_s = exposure(*e, limits.min_initial_exposure_s, limits.max_initial_exposure_s);
   if (!material_source)
     for (Cell& cell : scene.cells) cell.grey_source = detail::parse_scalar(source, ctx, cell.volume.domain());
   scene.greyscale = std::move(def);

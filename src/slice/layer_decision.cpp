@@ -207,6 +207,13 @@ bool LayerDecision::passes_parametric_clauses(const Cell& cd, Vec3 uvw) {
   return true;
 }
 
+void LayerDecision::throw_grey_not_finite(const trivox::Cell& cell, const TracedRow& row, std::size_t k,
+                                          float value) const {
+  const MaterialSite site{scene_.source, "/greyscale/source", cell.name, {}};
+  throw FractionError(site, fmt::format("the greyscale source is {}, not a finite number", value), row.uvw[k],
+                      &row.xyz[k]);
+}
+
 void LayerDecision::decide_cell(int ci, Layer& w, const RowSpans* only, const Consumer& consumer) const {
   const Cell& cd = *cells_[static_cast<std::size_t>(ci)];
   const Trivariate& tv = *trivariates_[static_cast<std::size_t>(cd.trivariate)];
@@ -235,6 +242,10 @@ void LayerDecision::decide_cell(int ci, Layer& w, const RowSpans* only, const Co
 // source) at them for the consumer.
 void LayerDecision::decide_row(int ci, int r, const TracedRow& traced, bool test_model_space, Layer& w,
                                const Consumer& consumer) const {
+  // Read before each row's material: a slow material (a Python callable) ends the layer within a
+  // row of the stop flag, not at the layer's end.
+  if (params_.stop != nullptr && params_.stop->load(std::memory_order_relaxed))
+    throw CancelledError("stopped while evaluating a layer's materials");
   const Cell& cd = *cells_[static_cast<std::size_t>(ci)];
   const TracedRow& row = cd.clauses.empty() ? traced : kept_by_trims(cd, r, traced, test_model_space, w);
   w.seconds_inverse += w.lap();
@@ -251,6 +262,10 @@ void LayerDecision::decide_row(int ci, int r, const TracedRow& traced, bool test
       if (w.grey_scratch.size() < n) w.grey_scratch.resize(n);
       grey = std::span<float>(w.grey_scratch).first(n);
       cd.cell->grey_source->evaluate_row(row.uvw, row.xyz, grey);
+      // A grey level from NaN would be the curve's first (a pixel exposed as if the source were
+      // at its lowest): the first such point stops the job, as a fraction that breaks the rules does.
+      for (std::size_t k = 0; k < n; ++k)
+        if (!std::isfinite(grey[k])) throw_grey_not_finite(*cd.cell, row, k, grey[k]);
     }
     consumer(DecidedRow{ci, r, row, fractions, grey});
   }

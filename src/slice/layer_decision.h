@@ -177,6 +177,9 @@ class LayerDecision {
   void trace_trimming_volumes(Layer& w, const RowSpans* only) const;
   void cut_trimming_shells(Layer& w) const;
   void decide_cell(int cell, Layer& w, const RowSpans* only, const Consumer& consumer) const;
+  // Throws FractionError at the scene's greyscale source: sample k of `row` is `value`, no number.
+  [[noreturn]] void throw_grey_not_finite(const trivox::Cell& cell, const TracedRow& row, std::size_t k,
+                                          float value) const;
   void decide_row(int cell, int row, const TracedRow& traced, bool test_model_space, Layer& w,
                   const Consumer& consumer) const;
   bool candidate_pixels(const Cell& cd, Layer& w, const RowSpans* only) const;

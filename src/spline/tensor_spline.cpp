@@ -43,8 +43,19 @@ void TensorSpline::validate() const {
   for (std::size_t i = 0; i < weights_.size(); ++i)
     if (!std::isfinite(weights_[i]) || !(weights_[i] > 0.0))
       throw ModelError(fmt::format("weight of control point {} is {}; weights must be finite and > 0", i, weights_[i]));
+  if (!weights_.empty()) {
+    const auto [lightest, heaviest] = std::minmax_element(weights_.begin(), weights_.end());
+    if (*heaviest / *lightest > kMaxWeightRatio)
+      throw ModelError(
+          fmt::format("weights range from {} (control point {}) to {} (control point {}), a ratio of {:.3g}; the ratio "
+                      "may be at most {:.0e}: beyond it the weights squeeze the cell's parameters into a slab thinner "
+                      "than double precision resolves",
+                      *lightest, lightest - weights_.begin(), *heaviest, heaviest - weights_.begin(),
+                      *heaviest / *lightest, kMaxWeightRatio));
+  }
   // Rational splines are evaluated (and written to .itd) in homogeneous form, w * x: that
-  // product must be a finite double too.
+  // product must be a finite double too. (What a model file may hold is the readers' rule:
+  // io_detail::rational_numbers_problem.)
   for (std::size_t i = 0; i < weights_.size(); ++i)
     for (int c = 0; c < point_dim_; ++c) {
       const double p = points_[i * static_cast<std::size_t>(point_dim_) + static_cast<std::size_t>(c)];

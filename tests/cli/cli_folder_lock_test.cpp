@@ -131,5 +131,32 @@ TEST_F(CliFolderLock, MergeWaitsForTheShardsWhileVerifyAndValidateTakeNoLock) {
   EXPECT_EQ(validate.exit_code, 0) << validate.out << validate.err;
 }
 
+// A folder slice cannot make is refused by validate too, with slice's message and exit code,
+// and neither creates anything: a file where the folder should be, a folder under a file, a
+// link to nothing.
+TEST_F(CliFolderLock, ValidateRefusesTheOutputFoldersSliceRefusesWithTheSameMessage) {
+  write_text(dir_.path() / "a.png", "not a folder");
+  fs::create_symlink(dir_.path() / "gone", dir_.path() / "dangling");
+  const fs::path file = dir_.path() / "a.png";
+  for (const fs::path& folder : {file, file / "x", file / "x" / "y", dir_.path() / "dangling"}) {
+    const std::string scene = shell_quote(dir_.path() / "box.json");
+    const CliResult sliced = run_cli(fmt::format("slice {} -o {} --layers 1:3 -q", scene, shell_quote(folder)));
+    const CliResult validated = run_cli(fmt::format("validate {} -o {} --samples 1", scene, shell_quote(folder)));
+    EXPECT_EQ(sliced.exit_code, 4) << folder << sliced.err;
+    EXPECT_EQ(validated.exit_code, 4) << folder << validated.out << validated.err;
+    const std::string expected = "trivox: error: " + folder.string() + ": cannot create output folder: ";
+    EXPECT_NE(sliced.err.find(expected), std::string::npos) << sliced.err;
+    EXPECT_NE(validated.err.find(expected), std::string::npos) << validated.err;
+    const auto last_line = [](const std::string& text) {
+      const std::string trimmed = text.substr(0, text.find_last_not_of('\n') + 1);
+      return trimmed.substr(trimmed.rfind('\n') + 1);
+    };
+    EXPECT_EQ(last_line(sliced.err), last_line(validated.err));
+    EXPECT_EQ(validated.out.find("ok: the job can run"), std::string::npos) << validated.out;
+  }
+  EXPECT_FALSE(fs::exists(dir_.path() / "gone"));
+  EXPECT_TRUE(fs::is_regular_file(file));
+}
+
 }  // namespace
 }  // namespace trivox::test

@@ -3,10 +3,12 @@
 // compiles *_test.cpp files only.
 #pragma once
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -90,6 +92,28 @@ inline CliResult run_cli(const std::string& args, const std::string& input = {},
   r.out = read_text(out);
   r.err = read_text(err);
   return r;
+}
+
+// Starts `trivox <args>` without a shell, as a shell would (SIGINT, SIGTERM and SIGPIPE at
+// their default actions), its standard input and output the descriptors given (-1: none
+// given, /dev/null) and its standard error written to `err`. `close_in_child` is closed in the
+// child (the other end of a pipe). Returns the child's pid, for waitpid; -1 when fork fails.
+inline pid_t start_cli(const std::vector<std::string>& args, int in_fd, int out_fd, const std::filesystem::path& err,
+                       int close_in_child = -1) {
+  const std::string program = cli_path().string();  // before fork: nothing allocates after it
+  std::vector<char*> argv{const_cast<char*>(program.c_str())};
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t child = ::fork();
+  if (child != 0) return child;
+  for (int sig : {SIGINT, SIGTERM, SIGPIPE}) ::signal(sig, SIG_DFL);
+  if (close_in_child >= 0) ::close(close_in_child);
+  const int null_fd = ::open("/dev/null", O_RDWR);
+  ::dup2(in_fd >= 0 ? in_fd : null_fd, STDIN_FILENO);
+  ::dup2(out_fd >= 0 ? out_fd : null_fd, STDOUT_FILENO);
+  ::dup2(::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), STDERR_FILENO);
+  ::execv(argv[0], argv.data());
+  ::_exit(127);
 }
 
 // One parsed JSON value per non-empty line of `text` (probe's output).

@@ -1,7 +1,11 @@
 // The trivox program's contract with the shell: exit codes and error messages
 // (docs/CLI.md, "Exit codes"). The program runs as a separate process on the bundled examples.
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -90,6 +94,30 @@ TEST(CliErrors, UnwritableOutputExits4) {
   const CliResult r = run_cli("info " + column(), {}, "/dev/full");
   EXPECT_EQ(r.exit_code, 4);
   EXPECT_NE(r.err.find("standard output"), std::string::npos) << r.err;
+}
+
+// Standard output whose reader has gone (`trivox info MODEL | head -c 0`): the program ends
+// with exit 4 and says nothing, as a pipeline expects, instead of dying by SIGPIPE. The
+// program runs with SIGPIPE at its default action, as from a shell.
+TEST(CliErrors, AClosedPipeOnStandardOutputEndsQuietlyWithExit4) {
+  ScratchDir dir;
+  const std::filesystem::path err = dir.path() / "stderr.txt";
+  const std::string model = (examples_dir() / "models" / "twisted_column.itd").string();
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"info", model}, std::vector<std::string>{"--version"}}) {
+    int ends[2];
+    ASSERT_EQ(::pipe(ends), 0);
+    ::close(ends[0]);  // no reader: every write fails with EPIPE (or raises SIGPIPE)
+    const pid_t child = start_cli(args, -1, ends[1], err);
+    ASSERT_GE(child, 0);
+    ::close(ends[1]);
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    EXPECT_FALSE(WIFSIGNALED(status)) << args[0] << ": killed by signal " << WTERMSIG(status);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 4) << args[0];
+    EXPECT_EQ(read_text(err), "") << args[0];
+  }
 }
 
 TEST(CliErrors, UnsupportedHierarchicalSplineExits3) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <span>
+#include <sstream>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -143,6 +144,32 @@ TEST(InputFile, AG2NumberThatWouldOverflowIsRefusedOnItsLine) {
     EXPECT_EQ(e.line(), 16) << e.what();
     EXPECT_NE(std::string(e.what()).find("overflows"), std::string::npos) << e.what();
   }
+}
+
+// A rational spline whose numbers are within the model limit but whose weighted coordinates
+// (what .itd and .g2 hold) or coordinates (what G+Smo holds) would not be, once read: 1e100 / 9
+// multiplied back by 9 rounds to 1.0000000000000002e100. Refused by the reader, naming the
+// patch's line, so that every model trivox takes writes back to a file that reads again.
+TEST(InputFile, ARationalSplineWhoseWrittenNumbersWouldOverflowIsRefusedOnItsLine) {
+  for (const char* first : {"[9 1e100]", "[0.5 1e100]"}) {
+    const std::string text = std::string("[OBJECT C\n    [CURVE BSPLINE 2 2 P1\n        [KV 0 0 1 1]\n        ") +
+                             first + "\n        [7 1e100]\n    ]\n]\n";
+    try {
+      (void)read_itd(text, "round.itd");
+      ADD_FAILURE() << first << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 2) << e.what();
+      EXPECT_NE(std::string(e.what()).find("which overflows"), std::string::npos) << e.what();
+    }
+  }
+  // Within the limit after the round trip: taken, and written back it reads again.
+  const Model m = read_itd(
+      "[OBJECT C\n    [CURVE BSPLINE 2 2 P1\n        [KV 0 0 1 1]\n        [9 1e99]\n"
+      "        [7 1e99]\n    ]\n]\n",
+      "round.itd");
+  std::ostringstream out;
+  write_itd(out, m);
+  EXPECT_NO_THROW((void)read_itd(out.str(), "again.itd"));
 }
 
 }  // namespace

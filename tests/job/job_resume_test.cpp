@@ -108,6 +108,40 @@ TEST_F(JobResume, ManifestListsEveryFileWithItsSizeAndHash) {
   EXPECT_EQ(manifest_text(parse_manifest(manifest_text(m), "m")), manifest_text(m));
 }
 
+// A name holding NUL or another control character (an input's, a cell's, a file's) is refused
+// wherever a manifest is read, and the message shows it escaped, whole: a NUL would otherwise
+// cut the message and let a changed name pass.
+TEST_F(JobResume, ManifestNamesWithControlCharactersAreRefusedAndShownEscaped) {
+  const JobManifest m = read_manifest(*reference_dir_ / "manifest.json");
+  const std::string text = manifest_text(m);
+  const std::string file_name = "\"" + m.files.back().name + "\"";
+  ASSERT_NE(text.find(file_name), std::string::npos);
+  for (const std::string& inserted : {std::string("\\u0000"), std::string("\\n"), std::string("\\u001b[2J")}) {
+    std::string bad = text;
+    bad.insert(bad.find(file_name) + 2, inserted);
+    try {
+      (void)parse_manifest(bad, "the manifest");
+      ADD_FAILURE() << "a name holding " << inserted << " was taken";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("/name"), std::string::npos) << what;
+      EXPECT_NE(what.find("control character"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\0'), std::string::npos);
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+      EXPECT_NE(what.find("names hold none"), std::string::npos) << what;  // not cut at the NUL
+    }
+  }
+}
+
+// verify and merge read their stop flag before each file (the program's SIGINT and SIGTERM).
+TEST_F(JobResume, VerifyStopsAtItsStopFlag) {
+  std::atomic<bool> stop{true};
+  EXPECT_THROW((void)verify_output(*reference_dir_, &stop), CancelledError);
+  EXPECT_THROW((void)merge_shards(*reference_dir_, &stop), Error);  // no shards: refused before any file
+  stop = false;
+  EXPECT_TRUE(verify_output(*reference_dir_, &stop).ok());
+}
+
 TEST_F(JobResume, StoppedAtTwentyRandomLayerCountsAndResumedEndsByteIdentical) {
   std::mt19937 rng(20261123);
   int interrupted = 0;

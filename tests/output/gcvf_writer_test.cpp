@@ -98,7 +98,7 @@ TEST(GcvfWriter, EntriesAreTheVoxelPrintLayersAndTheConfigDescribesTheJob) {
   const JobParams p = gcvf_params("entries", 3);
   run_slice_job(slicer, p);
   const SliceLayout& L = slicer.layout();
-  const int total = std::max(L.num_layers, p.min_layers);  // padding layers included
+  const int total = std::max(L.num_layers, min_layers_of(p));  // padding layers included
   const nlohmann::json z = inspect_zip(p.output_dir / "gcvf/stack.gcvf");
   EXPECT_TRUE(z["bad"].is_null()) << "CRC mismatch in " << z["bad"];
   const auto& entries = z["entries"];

@@ -53,7 +53,7 @@ TEST(VdbWriter, GridsHoldTheLayerImagesInModelSpace) {
   p.min_layers = slicer.layout().num_layers + 2;  // two empty padding layers on top
   run_slice_job(slicer, p);
   const SliceLayout& L = slicer.layout();
-  const int total = p.min_layers;
+  const int total = *p.min_layers;
 
   // The reference: every material pixel of every layer PNG, as (column, rows from the bottom,
   // layer), per material.

@@ -99,7 +99,16 @@ TEST(SceneGreyscale, ErrorsNameThePointerAndTheRule) {
   expect_scene_error(bad([](auto& j) { j["greyscale"]["curve"] = {{0, 40, 3}}; }), "/greyscale/curve/0", "");
   expect_scene_error(bad([](auto& j) { j["greyscale"]["antialiasing"] = 9; }), "/greyscale/antialiasing", "9");
   expect_scene_error(bad([](auto& j) { j["greyscale"]["antialiasing"] = 0; }), "/greyscale/antialiasing", "0");
-  expect_scene_error(bad([](auto& j) { j["greyscale"]["exposure_s"] = 0; }), "/greyscale/exposure_s", "not > 0");
+  // Exposures outside what the printer's firmware takes (1 to 60 s, the first layers 10 to 120 s).
+  expect_scene_error(bad([](auto& j) { j["greyscale"]["exposure_s"] = 0; }), "/greyscale/exposure_s",
+                     "an exposure of 0 s is outside the 1 to 60 s the printer takes");
+  expect_scene_error(bad([](auto& j) { j["greyscale"]["exposure_s"] = 1e300; }), "/greyscale/exposure_s",
+                     "an exposure of 1e+300 s is outside the 1 to 60 s");
+  expect_scene_error(bad([](auto& j) { j["greyscale"]["exposure_s"] = 0.5; }), "/greyscale/exposure_s", "0.5 s");
+  expect_scene_error(bad([](auto& j) { j["greyscale"]["initial_exposure_s"] = 121; }), "/greyscale/initial_exposure_s",
+                     "an exposure of 121 s is outside the 10 to 120 s the printer takes");
+  expect_scene_error(bad([](auto& j) { j["greyscale"]["initial_exposure_s"] = -1e-300; }),
+                     "/greyscale/initial_exposure_s", "outside the 10 to 120 s");
   expect_scene_error(bad([](auto& j) { j["greyscale"]["dither"] = true; }), "/greyscale/dither", "unknown key");
   expect_scene_error(bad([](auto& j) { j["greyscale"].erase("curve"); }), "/greyscale", "curve");
   expect_scene_error(bad([](auto& j) { j["greyscale"]["source"] = "u +* 2"; }), "/greyscale/source", "expression");

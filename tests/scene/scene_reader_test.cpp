@@ -1,11 +1,13 @@
 // The scene reader: a minimal scene, and every rule it enforces failing with an InputError
 // that names the scene file and the JSON pointer of the field.
+#include <atomic>
 #include <cmath>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "scene/scene_test_util.h"
+#include "trivox/error.h"
 #include "trivox/printer/material_library.h"
 #include "trivox/scene/scene.h"
 
@@ -54,6 +56,14 @@ TEST(SceneReader, MinimalScene) {
   cell.material->evaluate({0.5, 0.5, 0.5}, {5, 5, 5}, f);
   EXPECT_EQ(f, (std::vector<float>{0.25f, 0.5f}));
   EXPECT_EQ(scene.bounds().hi, (Vec3{10, 10, 10}));
+}
+
+// A raised stop flag (the program's SIGINT or SIGTERM) stops the reading at the next cell.
+TEST(SceneReader, AStopFlagStopsTheReadingAtTheNextCell) {
+  std::atomic<bool> stop{true};
+  EXPECT_THROW((void)parse_scene(minimal_scene().dump(), "dir/min.json", &stop), CancelledError);
+  stop = false;
+  EXPECT_EQ(parse_scene(minimal_scene().dump(), "dir/min.json", &stop).cells.size(), 1u);
 }
 
 TEST(SceneReader, DitheringSettings) {

@@ -19,6 +19,8 @@
 #include <gtest/gtest.h>
 
 #include "trivox/inverse/invert.h"
+#include "trivox/material/material_function.h"
+#include "trivox/scene/fraction_sums.h"
 #include "trivox/scene/scene.h"
 #include "trivox/slice/slicer.h"
 
@@ -343,6 +345,48 @@ TEST(GreyscaleCalibration, EveryPixelIsTheCurvesLevelAtItsScalar) {
       ++inside;
     }
   EXPECT_GT(inside, 1500);
+}
+
+// A scalar source that is NaN (or infinite) somewhere stops the slicer at the first such pixel,
+// naming the cell and the greyscale source, with and without anti-aliased edges; it never prints
+// those pixels at the curve's first grey. trivox validate proves the source finite, or finds the
+// point, beforehand (check_scene_grey_sources).
+TEST(GreyscaleCalibration, ASourceThatIsNoNumberStopsTheSlicerNamingTheCell) {
+  for (const char* source : {"sqrt(x - 2.5)", "1 / (x - x)"})
+    for (int k : {1, 4}) {
+      const Scene scene = scene_from(fmt::format(R"json({{
+        "units": "mm", "printer": {{ "pixel_mm": 0.05, "layer_thickness_mm": 0.1, "max_materials": 1 }},
+        "materials": [{{ "name": "resin", "rgba": [255, 128, 64] }}],
+        "greyscale": {{ "source": "{}", "curve": [[0, 10], [5, 250]], "antialiasing": {} }},
+        "cells": [{{ "name": "slab", "geometry": {{ "orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+                   "points": {} }}, "material": "resin" }}]
+      }})json",
+                                                 source, k, box_points(0, 0, 0, 5, 1, 0.5)));
+      const Slicer slicer(scene, {});
+      try {
+        (void)slicer.slice_layer(2);
+        ADD_FAILURE() << source << ": a layer was sliced";
+      } catch (const FractionError& e) {
+        EXPECT_EQ(e.where(), "/greyscale/source") << e.what();
+        EXPECT_EQ(e.cell(), "slab");
+        EXPECT_NE(std::string(e.what()).find("not a finite number"), std::string::npos) << e.what();
+      }
+      const std::vector<CellFractionCheck> checks = check_scene_grey_sources(scene);
+      ASSERT_EQ(checks.size(), 1u);
+      EXPECT_NE(checks[0].check.outcome, FractionCheckOutcome::kProved) << source;
+    }
+  // A finite source is proved so.
+  const Scene fine = scene_from(fmt::format(R"json({{
+      "units": "mm", "printer": {{ "pixel_mm": 0.05, "layer_thickness_mm": 0.1, "max_materials": 1 }},
+      "materials": [{{ "name": "resin", "rgba": [255, 128, 64] }}],
+      "greyscale": {{ "source": "sqrt(x + 1)", "curve": [[0, 10], [5, 250]] }},
+      "cells": [{{ "name": "slab", "geometry": {{ "orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
+                 "points": {} }}, "material": "resin" }}]
+    }})json",
+                                            box_points(0, 0, 0, 5, 1, 0.5)));
+  const std::vector<CellFractionCheck> checks = check_scene_grey_sources(fine);
+  ASSERT_EQ(checks.size(), 1u);
+  EXPECT_EQ(checks[0].check.outcome, FractionCheckOutcome::kProved);
 }
 
 }  // namespace

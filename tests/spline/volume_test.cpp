@@ -4,12 +4,17 @@
 
 #include <cmath>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "support/test_support.h"
 #include "trivox/error.h"
+#include "trivox/limits.h"
 #include "trivox/spline/jacobian_check.h"
+#include "trivox/spline/tensor_spline.h"
 
 namespace trivox {
 namespace {
@@ -227,6 +232,34 @@ TEST(JacobianCheck, ClassifiesOrientation) {
   // Mirroring x makes it left-handed.
   const Volume mirrored(test::annulus_sector(1, 2, 1).spline().transformed([](std::span<double> p) { p[0] = -p[0]; }));
   EXPECT_EQ(check_jacobian(mirrored).classification, JacobianClass::kLeftHanded);
+}
+
+// One trilinear cell with unit weights but for one corner of weight `heaviest` and one of
+// `lightest`.
+TensorSpline box_weighted(double lightest, double heaviest) {
+  const KnotVector kv(2, {0, 0, 1, 1});
+  std::vector<double> points;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) points.insert(points.end(), {double(i), double(j), double(k)});
+  std::vector<double> weights(8, 1.0);
+  weights.front() = lightest;
+  weights.back() = heaviest;
+  return TensorSpline({kv, kv, kv}, 3, points, weights);
+}
+
+TEST(Volume, WeightsSpanningUpToTheLimitAreTakenAndBeyondRefusedWithTheirRange) {
+  EXPECT_NO_THROW(Volume{box_weighted(1e-6, 1e6)});
+  EXPECT_NO_THROW(Volume{box_weighted(1.0, kMaxWeightRatio)});
+  for (const auto& [lightest, heaviest] : {std::pair{1e-3, 1e300}, std::pair{1e-3, 1e12}, std::pair{1.0, 1.01e12}}) {
+    try {
+      (void)box_weighted(lightest, heaviest);
+      ADD_FAILURE() << "weights " << lightest << " to " << heaviest << " were taken";
+    } catch (const ModelError& e) {
+      EXPECT_NE(std::string(e.what()).find("weights range from"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("(control point 7)"), std::string::npos) << e.what();
+    }
+  }
 }
 
 }  // namespace

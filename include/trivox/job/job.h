@@ -55,9 +55,11 @@ struct JobParams {
   // (job_background()).
   std::optional<std::array<std::uint8_t, 4>> background_rgba;
   GcvfJobOptions gcvf;
-  // GrabCAD Voxel Print needs at least this many layers; shorter jobs are padded with empty
-  // (background) layers after the model's. 0 to kMaxMinLayers.
-  int min_layers = kVoxelPrintMinLayers;
+  // Shorter jobs are padded with empty (background) layers after the model's up to this many
+  // layers, 0 to kMaxMinLayers. nullopt: as the formats need (min_layers_of): GrabCAD Voxel
+  // Print needs kVoxelPrintMinLayers; the other printers' formats (SL1, SL1S, greyscale PNGs)
+  // and the generic ones (TIFF, OpenVDB) are not padded.
+  std::optional<int> min_layers;
   static constexpr int kVoxelPrintMinLayers = 30;
   static constexpr int kMaxMinLayers = 1000;
   PngWriteParams png;
@@ -90,6 +92,11 @@ struct JobParams {
   // check_job_fits, and the slicer's outlines through SliceJob::slice_params().
   std::optional<std::uint64_t> memory_limit_bytes;
 };
+
+// The layers a job's stack is padded to: JobParams::min_layers when given, else
+// kVoxelPrintMinLayers when one of its formats feeds GrabCAD Voxel Print
+// (layer_writer_feeds_voxel_print), else 0.
+int min_layers_of(const JobParams& params);
 
 struct JobStats {
   SliceLayout layout;

@@ -2,6 +2,7 @@
 // manifest, and verifying every file the manifest lists (docs/CLI.md, "merge", "verify").
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -19,7 +20,9 @@ namespace trivox {
 // into the folder, makes it throw Error naming that job. Throws Error naming the folder and
 // what is missing or inconsistent, IoError when a file cannot be read or written. Returns
 // the merged manifest.
-JobManifest merge_shards(const std::filesystem::path& dir);
+// `stop` (optional, may be set from a signal handler) is read before each file: once it is
+// true, merge_shards throws CancelledError having written nothing.
+JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<bool>* stop = nullptr);
 
 struct VerifyReport {
   JobManifest manifest;
@@ -38,6 +41,7 @@ struct VerifyReport {
 // job layer, an OpenVDB file one grid per material with no voxel outside the job's layers. Throws IoError when the
 // folder has no readable manifest.json (and says so when only shard manifests are there),
 // InputError when the manifest is malformed.
-VerifyReport verify_output(const std::filesystem::path& dir);
+// `stop` (optional) is read before each file: once it is true, throws CancelledError.
+VerifyReport verify_output(const std::filesystem::path& dir, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox

@@ -14,6 +14,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -30,12 +31,12 @@ class JobFolderLock {
   JobFolderLock(const JobFolderLock&) = delete;
   JobFolderLock& operator=(const JobFolderLock&) = delete;
 
-  const std::filesystem::path& dir() const noexcept { return dir_; }
-  int shard_index() const noexcept { return shard_index_; }
-  int shard_count() const noexcept { return shard_count_; }
+  const std::filesystem::path& dir() const noexcept;
+  int shard_index() const noexcept;
+  int shard_count() const noexcept;
   // The holder line of a lock file this job took over from a job that ended without removing
   // it (killed, or a power cut); nullopt when the lock files were absent or empty.
-  const std::optional<std::string>& taken_over_from() const noexcept { return taken_over_from_; }
+  const std::optional<std::string>& taken_over_from() const noexcept;
 
   // Disk space held for the manifest that records a failure: a full disk would leave no room
   // to write it. The job's own lock file (the shard's for a shard) is extended to hold
@@ -45,14 +46,16 @@ class JobFolderLock {
   void release_reserve() noexcept;
 
  private:
-  std::filesystem::path dir_;
-  int shard_index_ = 1, shard_count_ = 1;
-  int folder_fd_ = -1;  // .trivox.lock
-  int shard_fd_ = -1;   // .trivox-shard-I.lock, shards only
-  std::optional<std::string> taken_over_from_;
-  std::uint64_t line_bytes_ = 0;  // the holder line at the start of the job's own lock file
-  std::uint64_t reserved_ = 0;    // bytes held after it
+  struct Held;  // the folder, the shard, the lock files' descriptors, the disk reserve
+  std::unique_ptr<Held> held_;
 };
+
+// Why `dir` cannot be made a job's output folder, found without creating or writing anything:
+// "DIR: cannot create output folder: REASON", the message JobFolderLock throws (as IoError)
+// before it creates the folder, so that `trivox validate` refuses what `trivox slice` refuses.
+// nullopt when `dir` is a folder, or the nearest part of it that exists is a folder this
+// process may create entries in.
+std::optional<std::string> output_folder_problem(const std::filesystem::path& dir);
 
 // The lock files' names: ".trivox.lock", and ".trivox-shard-I.lock" for shard I.
 std::string job_lock_file_name();

@@ -20,7 +20,6 @@
 #pragma once
 
 #include <memory>
-#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,7 +65,7 @@ class ExpressionMaterial final : public MaterialFunction {
   // expression at a fixed set of points and must agree.
   FractionEnclosure enclose(const ParamBox& box, const Box3& xyz) const override;
 
-  const ExpressionParams& params() const noexcept { return params_; }
+  const ExpressionParams& params() const noexcept;
   // Whether every non-empty expression has a tree to bound it with.
   bool boundable() const noexcept;
 
@@ -75,12 +74,8 @@ class ExpressionMaterial final : public MaterialFunction {
   struct Trees;
   std::unique_ptr<Evaluator> make_evaluator() const;
   void build_trees();
-  std::unique_ptr<Trees> trees_;
-
-  ExpressionParams params_;
-  AffineParamMap map_;
-  mutable std::mutex pool_mutex_;
-  mutable std::vector<std::unique_ptr<Evaluator>> pool_;
+  struct State;  // the expressions, the parameter map, the trees and the pool of evaluators
+  std::unique_ptr<State> state_;
 };
 
 }  // namespace trivox

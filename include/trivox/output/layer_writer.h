@@ -146,6 +146,9 @@ std::vector<std::string> layer_writer_names();
 bool is_stack_format(std::string_view format);
 // Whether `format` puts the materials' names into its file names ("bitmaps", "legacy").
 bool layer_writer_names_files_by_material(std::string_view format);
+// Whether GrabCAD Voxel Print reads `format` (voxelprint, gcvf): such stacks are padded to its
+// minimum height (JobParams::min_layers); false for the others and for an unknown name.
+bool layer_writer_feeds_voxel_print(std::string_view format);
 
 // The longest text (bytes) the job puts into a file name from its settings or the scene: the
 // prefix, a material's name.

@@ -40,6 +40,11 @@ struct MaskedDisplay {
   // exposure fades into the other.
   double exposure_s = 7.5, initial_exposure_s = 35;
   int faded_layers = 10;
+  // The exposures (seconds) the printer takes, for a layer and for the first layers: the limits
+  // Prusa's SL1 and SL1S firmware sets (1 to 60 s, and 10 to 120 s). A scene's greyscale block
+  // that asks for more or less is refused; the archive would state it to the printer.
+  double min_exposure_s = 1, max_exposure_s = 60;
+  double min_initial_exposure_s = 10, max_initial_exposure_s = 120;
 
   bool operator==(const MaskedDisplay&) const = default;
 };

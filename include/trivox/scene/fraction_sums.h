@@ -22,4 +22,10 @@ struct CellFractionCheck {
 // reason.
 std::vector<CellFractionCheck> check_scene_fractions(const Scene& scene, const FractionCheckParams& params = {});
 
+// The scene's greyscale source where it is a scalar source (Cell::grey_source): for every cell
+// that has one, a proof that its values are finite numbers over the cell's domain (the check
+// of the "normalise" policy, which proves only that), a point where one is not (the slicer
+// stops there), or "cannot prove". Cells without one have no entry.
+std::vector<CellFractionCheck> check_scene_grey_sources(const Scene& scene, const FractionCheckParams& params = {});
+
 }  // namespace trivox
