@@ -185,6 +185,11 @@ def test_itd_text_reads_back_to_the_same_doubles(column, tmp_path):
     assert trivox.read_itd(trivox.to_itd([vol])).volumes()[0] == vol
     with pytest.raises(ValueError, match=r"\.itd"):
         trivox.write(str(tmp_path / "x.stl"), [vol])
+    # One volume (or spline) on its own, not in a list.
+    trivox.write(tmp_path / "one.itd", column)
+    assert trivox.read(str(tmp_path / "one.itd")).volumes() == [column]
+    trivox.write(tmp_path / "one.xml", column.spline)
+    assert trivox.read(str(tmp_path / "one.xml")).volumes() == [column]
 
 
 @pytest.mark.parametrize("ext", [".xml", ".g2"])

@@ -112,11 +112,15 @@ thick_shell = shell
 
 
 def write(path: _Union[str, "_os.PathLike[str]"], model: Any) -> None:
-    """Writes a Model, or a list of Spline, Volume or Patch objects, as a model file chosen by
+    """Writes a Model, one Spline, Volume or Patch, or a list of them, as a model file chosen by
     the extension: IRIT .itd, G+Smo .xml (with the multi-patch interfaces) or GoTools .g2; 17
-    significant digits, so each reads back to the same doubles. Layer images, stacks and
-    packages are written by slice()."""
+    significant digits. Knots, weights and the points of polynomial patches read back to the
+    same doubles in every format, rational points too from G+Smo .xml; .itd and .g2 store a
+    rational point as w * x, which may read back an ulp away (docs/FORMATS.md). Layer images,
+    stacks and packages are written by slice()."""
     path = _os.fspath(path)
+    if isinstance(model, (Spline, Volume, Patch)):
+        model = [model]
     writers = {".itd": to_itd, ".xml": to_gismo_xml, ".g2": to_g2}
     ext = _os.path.splitext(path)[1].lower()
     if ext not in writers:
