@@ -381,6 +381,7 @@ PipelineOutcome run_pipeline(std::span<const std::uint8_t> data, const std::file
   const PipelineJob job = generate_pipeline_job(data);
   const Watchdog watchdog(kPipelineStopSeconds);
   try {
+    if (!job.files.empty()) std::filesystem::create_directories(work_dir);
     for (const auto& [name, bytes] : job.files) write_file(work_dir / name, bytes);
     const Scene scene = job.cache_damage == kNoCache ? parse_scene(job.scene_json, work_dir / "scene.json")
                                                      : read_through_damaged_cache(job, work_dir, watchdog.flag());
