@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/sha256.h"
 #include "trivox/job/job_lock.h"
@@ -190,11 +191,6 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
     return e.what();
   }
   return {};
-}
-
-void throw_if_stopped(const std::atomic<bool>* stop, const char* during) {
-  if (stop != nullptr && stop->load(std::memory_order_relaxed))
-    throw CancelledError(fmt::format("stopped while {}", during));
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include "scene/json_view.h"
 #include "scene/scene_parse.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/material/checked_material.h"
 #include "trivox/spline/jacobian_check.h"
@@ -58,7 +59,7 @@ void parse_cells(const JsonView& node, SceneContext& ctx, Scene& scene) {
   for (std::size_t i = 0; i < cells.size(); ++i) {
     // Between cells as within their constructions and mesh checks: a scene of many cells (each
     // reading its model files) stops at the next cell.
-    if (ctx.stop() != nullptr && ctx.stop()->load()) throw CancelledError("stopped while reading the scene's cells");
+    throw_if_stopped(ctx.stop(), "reading the scene's cells");
     const JsonView& c = cells[i];
     c.expect_object({"name", "geometry", "volume", "placement", "material", "trim"});
     std::string base_name = fmt::format("cell {}", i);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <span>
 
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 
 namespace trivox::detail {
@@ -17,8 +18,7 @@ std::vector<double> samples_of(double lo, double hi, int n) {
 }
 
 void throw_if_stopped(const std::atomic<bool>* stop) {
-  if (stop != nullptr && stop->load(std::memory_order_relaxed))
-    throw CancelledError("stopped while building a cell's outline mesh");
+  trivox::throw_if_stopped(stop, "building a cell's outline mesh");
 }
 
 // Largest deviation between a face's surface and its bilinear grid cells, checked at cell

@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "function_clones.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/inverse/detail/trace.h"
 
@@ -228,10 +229,7 @@ void CellTracer::finish_check(Row& r, const Row* above, Vec3 x, Vec3 at, Vec3 va
 // global solve is the tracer's largest unit of work (a row of a pathological job, such as a
 // high-order rational cell traced without seeds, may take seconds); the job then counts the
 // layer as not done.
-void CellTracer::throw_if_stopped() const {
-  if (params_.stop != nullptr && params_.stop->load(std::memory_order_relaxed))
-    throw CancelledError("stopped while tracing a layer");
-}
+void CellTracer::throw_if_stopped() const { trivox::throw_if_stopped(params_.stop, "tracing a layer"); }
 
 void CellTracer::solve_from_neighbours(Row& r, const Row* above, Vec3 x) {
   throw_if_stopped();

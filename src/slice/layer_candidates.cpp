@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "layer_decision.h"
+#include "trivox/cancel.h"
 
 namespace trivox::detail {
 
@@ -91,8 +92,7 @@ void LayerDecision::narrow_to_model_space_clauses(const Cell& cd, Layer& w) cons
     if (!per_pixel || row_spans.empty()) continue;
     // Pixel by pixel a clause may cost much (a winding number over a mesh with many cones): the
     // stop flag is read for every such row, so that a stopped job ends within a row.
-    if (params_.stop != nullptr && params_.stop->load(std::memory_order_relaxed))
-      throw CancelledError("stopped while testing pixels against a cell's trims");
+    throw_if_stopped(params_.stop, "testing pixels against a cell's trims");
     kept_spans.clear();
     for (const auto& [c0, c1] : row_spans)
       for (int col = c0; col <= c1; ++col) {

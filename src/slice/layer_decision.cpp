@@ -8,6 +8,7 @@
 
 #include "boundary_mesh.h"
 #include "cell_preparation.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/material/material_function.h"
 
@@ -75,7 +76,7 @@ LayerDecision::LayerDecision(const Scene& scene, const SliceParams& params, Setu
 
 void LayerDecision::bound_images(double tolerance_mm) {
   for (const auto& tv : trivariates_) {
-    if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while bounding the cells");
+    throw_if_stopped(params_.stop, "bounding the cells");
     tv->image = tv->solver.image_bounds(tolerance_mm);
   }
 }
@@ -100,7 +101,7 @@ void LayerDecision::build_meshes(const std::vector<std::int64_t>& budgets) {
     const std::int64_t budget = budgets[static_cast<std::size_t>(cd->trivariate)];
     for (Clause& k : cd->clauses) {
       if (k.kind == TrimKind::kVolume) continue;
-      if (params_.stop != nullptr && params_.stop->load()) throw CancelledError("stopped while meshing a trim shell");
+      throw_if_stopped(params_.stop, "meshing a trim shell");
       const TrimClause& clause = *k.source;
       k.mesh = shells.mesh(c, clause, shell_samples(*clause.shell, budget));
       if (k.mesh->open_edges() > 0)
@@ -244,8 +245,7 @@ void LayerDecision::decide_row(int ci, int r, const TracedRow& traced, bool test
                                const Consumer& consumer) const {
   // Read before each row's material: a slow material (a Python callable) ends the layer within a
   // row of the stop flag, not at the layer's end.
-  if (params_.stop != nullptr && params_.stop->load(std::memory_order_relaxed))
-    throw CancelledError("stopped while evaluating a layer's materials");
+  throw_if_stopped(params_.stop, "evaluating a layer's materials");
   const Cell& cd = *cells_[static_cast<std::size_t>(ci)];
   const TracedRow& row = cd.clauses.empty() ? traced : kept_by_trims(cd, r, traced, test_model_space, w);
   w.seconds_inverse += w.lap();
