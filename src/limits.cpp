@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace trivox {
 
@@ -31,6 +32,11 @@ std::int64_t mesh_triangle_limit() {
   const auto within = static_cast<std::int64_t>(
       std::min<std::uint64_t>(*memory / 2 / kMeshTrimBytesPerTriangle, static_cast<std::uint64_t>(kMaxMeshTriangles)));
   return std::max<std::int64_t>(within, 1);
+}
+
+std::uint64_t input_file_byte_limit() {
+  const std::optional<std::uint64_t> memory = process_memory_limit_bytes();
+  return memory ? std::max<std::uint64_t>(*memory / 10, 1) : std::numeric_limits<std::uint64_t>::max();
 }
 
 }  // namespace trivox

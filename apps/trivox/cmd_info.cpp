@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "stop_signal.h"
 #include "trivox/io/model.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/volume.h"
@@ -186,7 +187,7 @@ void run_info(const InfoOptions& options) {
     print_scene_info(options.model_path);
     return;
   }
-  const Model model = read_model(options.model_path);
+  const Model model = read_model(options.model_path, stop_on_signals());
   if (options.json) {
     // One patch per line: compact enough for models of many patches, still one JSON document.
     const auto dump = [](const nlohmann::ordered_json& j) {

@@ -160,7 +160,7 @@ void run_invert(const Model& model, std::optional<int> only_patch, const GlobalS
 }
 
 void run_probe(const ProbeOptions& options) {
-  const Model model = read_model(options.model_path);
+  const Model model = read_model(options.model_path, stop_on_signals());
   GlobalSolveParams solve = options.solve;
   solve.stop = stop_on_signals();  // a global solve of a big volume may take seconds
   if (options.eval)

@@ -1,5 +1,5 @@
 // SIGINT and SIGTERM for the commands that run long (slice, validate, build, merge, verify,
-// probe): a scheduler sends SIGTERM at a time limit or a preemption, then kills; a person
+// probe, info): a scheduler sends SIGTERM at a time limit or a preemption, then kills; a person
 // presses Ctrl-C. The first signal raises one flag the command hands to the library as its
 // stop flag (JobParams::stop, SliceParams::stop, read_scene's), so the command ends cleanly
 // within a second: a job's manifest says interrupted and the job can be resumed; a command

@@ -100,11 +100,11 @@ void check_round_trip(const Model& model) {
     throw HarnessViolation("an accepted model reads back from write_itd with another patch count");
 }
 
-void run_model_reader(Model (*reader)(std::string_view, const std::string&), std::span<const std::uint8_t> data,
-                      const std::string& source) {
+void run_model_reader(Model (*reader)(std::string_view, const std::string&, const std::atomic<bool>*),
+                      std::span<const std::uint8_t> data, const std::string& source) {
   Model model;
   try {
-    model = reader(as_text(data), source);
+    model = reader(as_text(data), source, nullptr);
   } catch (const Error&) {
     return;  // rejected with a documented error: the expected outcome for most inputs
   }

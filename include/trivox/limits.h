@@ -49,6 +49,12 @@ std::optional<std::uint64_t> memory_limit_from_mb(double megabytes);
 // they are allocated on a machine (or under a limit) of less than 16 GB.
 std::int64_t mesh_triangle_limit();
 
+// Bytes one model or mesh file may have, checked before it is read: a tenth of
+// process_memory_limit_bytes() (no limit when that is unknown). A model's text parses into
+// doubles of up to four times its size (a number may be written in two characters), so the
+// file and its parse take at most half of the memory, the other half being the job's.
+std::uint64_t input_file_byte_limit();
+
 // Materials in one scene (besides void). Labels of dithered layers are bytes with 0 for void,
 // and error diffusion keeps one error term per material and pixel, so the bound stays small.
 inline constexpr int kMaxMaterials = 64;

@@ -135,18 +135,26 @@ void bind_model_files(py::module_& m) {
       "(file, "
       "line, rule) for malformed content, UnsupportedError for valid but unsupported content, IoError when the "
       "file cannot be read.");
-  m.def("read_itd", &read_itd, py::arg("text"), py::arg("source") = "<string>", "Parses IRIT .itd text.");
-  m.def("read_gismo_xml", &read_gismo_xml, py::arg("text"), py::arg("source") = "<string>", "Parses G+Smo XML text.");
+  m.def(
+      "read_itd", [](std::string_view text, const std::string& source) { return read_itd(text, source); },
+      py::arg("text"), py::arg("source") = "<string>", "Parses IRIT .itd text.");
+  m.def(
+      "read_gismo_xml", [](std::string_view text, const std::string& source) { return read_gismo_xml(text, source); },
+      py::arg("text"), py::arg("source") = "<string>", "Parses G+Smo XML text.");
   m.def(
       "to_itd", [](const py::handle& items) { return model_text(items, ModelFormat::kItd); }, py::arg("model"),
-      "IRIT .itd text of a Model or a list of Spline, Volume or Patch objects (17 significant digits: reading it "
-      "back gives the same doubles).");
-  m.def("read_g2", &read_g2, py::arg("text"), py::arg("source") = "<string>", "Parses GoTools .g2 text.");
+      "IRIT .itd text of a Model or a list of Spline, Volume or Patch objects (17 significant digits: knots, "
+      "weights and the points of polynomial patches read back to the same doubles; a rational point is stored "
+      "as w * x and may read back an ulp away, docs/FORMATS.md).");
+  m.def(
+      "read_g2", [](std::string_view text, const std::string& source) { return read_g2(text, source); },
+      py::arg("text"), py::arg("source") = "<string>", "Parses GoTools .g2 text.");
   m.def(
       "to_g2", [](const py::handle& items) { return model_text(items, ModelFormat::kG2); }, py::arg("model"),
       "GoTools .g2 text of a Model or a list of Spline, Volume or Patch objects (SplineCurve, SplineSurface, "
-      "SplineVolume; 17 significant digits, rational points homogeneous so that they read back to the same "
-      "doubles).");
+      "SplineVolume; 17 significant digits: knots, weights and the points of polynomial patches read back to "
+      "the same doubles; a rational point is stored homogeneous, chosen to divide back to the same double where "
+      "one does, else within an ulp, docs/FORMATS.md).");
   m.def(
       "to_gismo_xml", [](const py::handle& items) { return model_text(items, ModelFormat::kGismoXml); },
       py::arg("model"),

@@ -28,6 +28,7 @@
 #include <fmt/format.h>
 
 #include "io/text_number.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/limits.h"
@@ -111,7 +112,8 @@ bool is_blank(char c) noexcept { return c == ' ' || c == '\t' || c == '\n' || c 
 // memory than the model it holds).
 class G2Reader {
  public:
-  G2Reader(std::string_view text, const std::string& source) : text_(text), source_(source) {}
+  G2Reader(std::string_view text, const std::string& source, const std::atomic<bool>* stop)
+      : text_(text), source_(source), stop_(stop, "reading a model") {}
 
   Model read();
 
@@ -145,6 +147,7 @@ class G2Reader {
 
   std::string_view text_;
   const std::string& source_;
+  StopPoll stop_;
   std::size_t pos_ = 0;
   int line_ = 1;
   int last_line_ = 0;
@@ -165,6 +168,7 @@ void G2Reader::skip_blanks() {
 }
 
 Token G2Reader::take(const std::string& where, const std::string& what) {
+  stop_.step();
   if (at_end()) fail(end_line(), where, fmt::format("unexpected end of file: expected {}", what));
   const std::size_t start = pos_;
   while (pos_ < text_.size() && !is_blank(text_[pos_])) {
@@ -384,8 +388,8 @@ void G2Reader::skip_object(Model& model, std::int64_t class_number, int line) {
 
 }  // namespace
 
-Model read_g2(std::string_view text, const std::string& source) {
-  G2Reader reader(text, source);
+Model read_g2(std::string_view text, const std::string& source, const std::atomic<bool>* stop) {
+  G2Reader reader(text, source, stop);
   return reader.read();
 }
 

@@ -26,6 +26,7 @@
 
 #include "io/gismo_xml.h"
 #include "io/text_number.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/io/model.h"
 #include "trivox/limits.h"
@@ -65,7 +66,8 @@ bool is_hierarchical(std::string_view type) {
 
 class GismoReader {
  public:
-  GismoReader(std::string_view text, const std::string& source) : text_(text), ctx_(text, source) {}
+  GismoReader(std::string_view text, const std::string& source, const std::atomic<bool>* stop)
+      : text_(text), ctx_(text, source, stop), stop_(stop) {}
 
   Model read();
 
@@ -81,6 +83,7 @@ class GismoReader {
 
   std::string_view text_;
   XmlContext ctx_;
+  const std::atomic<bool>* stop_;
 };
 
 Model GismoReader::read() {
@@ -92,6 +95,7 @@ Model GismoReader::read() {
   // well-formed XML; pugixml skips the declaration wherever it stands, so they read fine.
   const pugi::xml_parse_result parsed =
       doc.load_buffer(text_.data(), text_.size(), pugi::parse_default, pugi::encoding_utf8);
+  throw_if_stopped(stop_, "reading a model");
   if (!parsed)
     throw InputError(source, ctx_.line_at(parsed.offset), "",
                      fmt::format("XML syntax error: {}", parsed.description()));
@@ -306,8 +310,8 @@ KnotVector GismoReader::read_knot_vector(pugi::xml_node kv, std::int64_t& functi
 
 }  // namespace
 
-Model read_gismo_xml(std::string_view text, const std::string& source) {
-  GismoReader reader(text, source);
+Model read_gismo_xml(std::string_view text, const std::string& source, const std::atomic<bool>* stop) {
+  GismoReader reader(text, source, stop);
   return reader.read();
 }
 

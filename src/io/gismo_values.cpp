@@ -57,7 +57,8 @@ double decode_value(const std::uint8_t* p, const BinaryFormat& f) {
 
 }  // namespace
 
-XmlContext::XmlContext(std::string_view text, const std::string& source) : source_(source) {
+XmlContext::XmlContext(std::string_view text, const std::string& source, const std::atomic<bool>* stop)
+    : source_(source), stop_(stop, "reading a model") {
   line_starts_.push_back(0);
   for (std::size_t i = 0; i < text.size(); ++i)
     if (text[i] == '\n') line_starts_.push_back(i + 1);
@@ -122,6 +123,7 @@ std::vector<double> XmlContext::read_ascii(pugi::xml_node node) const {
       while (j < s.size() && !is_blank(s[j])) ++j;
       const std::string_view token = s.substr(i, j - i);
       i = j;
+      stop_.step();
       std::optional<double> v;
       if (const std::size_t slash = token.find('/'); slash != std::string_view::npos) {
         // G+Smo writes exact rationals as fractions: "1/3".
@@ -160,6 +162,7 @@ std::vector<double> XmlContext::read_base64(pugi::xml_node node, const std::stri
   std::vector<double> values;
   values.reserve(bytes.size() / f->bytes);
   for (std::size_t i = 0; i < bytes.size(); i += f->bytes) {
+    stop_.step();
     const double v = decode_value(bytes.data() + i, *f);
     if (!std::isfinite(v))
       fail(node, fmt::format("base64 value {} is not finite (NaN and infinity are not allowed)", i / f->bytes));

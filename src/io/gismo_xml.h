@@ -10,11 +10,14 @@
 
 #include <pugixml.hpp>
 
+#include "trivox/cancel.h"
+
 namespace trivox::io_detail {
 
 class XmlContext {
  public:
-  XmlContext(std::string_view text, const std::string& source);
+  // `stop` (may be null) is read every 65536 numbers read_values() reads.
+  XmlContext(std::string_view text, const std::string& source, const std::atomic<bool>* stop = nullptr);
 
   const std::string& source() const noexcept { return source_; }
   // 1-based line of a byte offset into the text (0 for a negative offset: unknown).
@@ -44,6 +47,7 @@ class XmlContext {
 
   const std::string& source_;
   std::vector<std::size_t> line_starts_;  // byte offset where each line begins
+  mutable StopPoll stop_;
 };
 
 // The element's only child named `name`: InputError when there is none or more than one.

@@ -32,7 +32,8 @@ struct PointType {
 
 class ItdParser {
  public:
-  ItdParser(std::string_view text, const std::string& source) : text_(text), tok_(text, source), source_(source) {}
+  ItdParser(std::string_view text, const std::string& source, const std::atomic<bool>* stop)
+      : text_(text), tok_(text, source, stop), source_(source) {}
 
   Model parse();
 

@@ -172,8 +172,8 @@ int ItdParser::read_int(const std::string& where, const std::string& what, std::
 
 }  // namespace itd
 
-Model read_itd(std::string_view text, const std::string& source) {
-  itd::ItdParser parser(text, source);
+Model read_itd(std::string_view text, const std::string& source, const std::atomic<bool>* stop) {
+  itd::ItdParser parser(text, source, stop);
   return parser.parse();
 }
 

@@ -29,7 +29,8 @@ std::string describe(const Token& t) {
   return fmt::format("'{}'", t.text.substr(0, 40));
 }
 
-Tokenizer::Tokenizer(std::string_view text, const std::string& source) : text_(text), source_(&source) {}
+Tokenizer::Tokenizer(std::string_view text, const std::string& source, const std::atomic<bool>* stop)
+    : text_(text), source_(&source), stop_(stop, "reading a model") {}
 
 void Tokenizer::skip_blanks() {
   while (pos_ < text_.size() && is_blank(text_[pos_])) {
@@ -39,6 +40,7 @@ void Tokenizer::skip_blanks() {
 }
 
 Token Tokenizer::next() {
+  stop_.step();
   skip_blanks();
   Token t;
   t.line = line_;

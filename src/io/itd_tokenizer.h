@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "trivox/cancel.h"
+
 namespace trivox::itd {
 
 enum class TokenKind { kOpen, kClose, kWord, kString, kEnd };
@@ -31,8 +33,9 @@ std::string describe(const Token& t);
 class Tokenizer {
  public:
   // `source` names the input in errors (InputError for control characters, which mean the
-  // file is binary, and for a string left open at the end of the file).
-  Tokenizer(std::string_view text, const std::string& source);
+  // file is binary, and for a string left open at the end of the file). `stop` (may be null)
+  // is read every 65536 tokens.
+  Tokenizer(std::string_view text, const std::string& source, const std::atomic<bool>* stop = nullptr);
 
   Token next();
   // The token next() would return, and the one after it; the tokenizer's state is a position
@@ -49,6 +52,7 @@ class Tokenizer {
 
   std::string_view text_;
   const std::string* source_;
+  StopPoll stop_;
   std::size_t pos_ = 0;
   int line_ = 1;
   int last_line_ = 0;

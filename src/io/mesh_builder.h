@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "trivox/cancel.h"
 #include "trivox/io/triangle_mesh.h"
 #include "trivox/math.h"
 
@@ -29,7 +30,8 @@ struct MeshTransform {
 
 class MeshBuilder {
  public:
-  explicit MeshBuilder(TriangleMeshFile& out) : out_(out) {}
+  // `stop` (may be null) is read every 65536 vertices.
+  MeshBuilder(TriangleMeshFile& out, const std::atomic<bool>* stop) : out_(out), stop_(stop, "reading a mesh") {}
 
   // Makes room for `triangles` more triangles and `vertices` more vertices, or throws
   // InputError when the file's total would pass mesh_triangle_limit() (or three vertices a
@@ -50,6 +52,7 @@ class MeshBuilder {
     std::size_t operator()(const Key& k) const noexcept;
   };
   TriangleMeshFile& out_;
+  StopPoll stop_;
   std::int64_t triangles_expected_ = 0, vertices_expected_ = 0;
   std::unordered_map<Key, int, KeyHash> index_;
 };

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 
 namespace trivox {
@@ -56,7 +57,7 @@ std::string sha256_hex(std::string_view bytes) {
   return h.hex();
 }
 
-FileDigest sha256_file(const std::filesystem::path& path) {
+FileDigest sha256_file(const std::filesystem::path& path, const std::atomic<bool>* stop) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (file == nullptr)
     throw IoError(
@@ -65,6 +66,10 @@ FileDigest sha256_file(const std::filesystem::path& path) {
   FileDigest d;
   std::vector<std::uint8_t> block(1 << 16);
   for (;;) {
+    if (stop != nullptr && stop->load(std::memory_order_relaxed)) {
+      std::fclose(file);
+      throw_if_stopped(stop, "hashing an input file");
+    }
     const std::size_t n = std::fread(block.data(), 1, block.size(), file);
     if (n > 0) {
       h.update(std::span(block.data(), n));

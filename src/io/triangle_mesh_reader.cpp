@@ -20,6 +20,7 @@
 
 #include "io/mesh_builder.h"
 #include "io/text_number.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/regular_file.h"
 #include "trivox/io/triangle_mesh.h"
@@ -91,6 +92,7 @@ std::size_t MeshBuilder::KeyHash::operator()(const Key& k) const noexcept {
 }
 
 int MeshBuilder::vertex(Vec3 p, const std::string& what) {
+  stop_.step();
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
     throw InputError(out_.source, 0, what, fmt::format("a vertex is not finite ({}, {}, {})", p.x, p.y, p.z));
   // -0 and 0 are one coordinate: adding 0.0 turns -0 into +0 and leaves every other value.
@@ -162,10 +164,12 @@ std::string check_stl(std::span<const std::uint8_t> bytes, const std::string& so
 // reads a vertex of two numbers by taking the next word as the third and reports a character
 // the file does not hold, on no line. Here "vertex" takes exactly three numbers and "facet
 // normal" three, the vertex's finite, and a problem names its line.
-void check_ascii_stl(std::span<const std::uint8_t> bytes, const std::string& source) {
+void check_ascii_stl(std::span<const std::uint8_t> bytes, const std::string& source, const std::atomic<bool>* stop) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  StopPoll poll(stop, "checking an ASCII STL file");
   int line = 0;
   for (std::size_t at = 0; at < text.size();) {
+    poll.step();
     std::size_t end = text.find('\n', at);
     if (end == std::string_view::npos) end = text.size();
     const std::string_view row = text.substr(at, end - at);
@@ -320,13 +324,34 @@ void read_with_assimp(std::span<const std::uint8_t> bytes, const char* hint, Mes
   add_node(*scene, *scene->mRootNode, MeshTransform{}, builder, out, 0);
 }
 
-std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path) {
+// A binary STL read here rather than by assimp (check_stl has matched its size to its count):
+// 80 header bytes, a count, then per triangle a normal (unused: the corners give the
+// triangle), three corners of three little-endian floats, two attribute bytes. The vertices
+// and triangles are assimp's, in its order; the stop flag is read as they are welded, where
+// assimp's parse of a large file could not be stopped.
+void read_binary_stl(std::span<const std::uint8_t> bytes, MeshBuilder& builder, TriangleMeshFile& out) {
+  const std::int64_t count = read_le32(bytes.data() + 80);
+  const std::string what = fmt::format("{} mesh 0", out.format);
+  builder.expect(count, 3 * count, what);
+  const auto coordinate = [](const std::uint8_t* p) { return static_cast<double>(std::bit_cast<float>(read_le32(p))); };
+  for (std::int64_t t = 0; t < count; ++t) {
+    const std::uint8_t* corners = bytes.data() + 84 + 50 * t + 12;
+    int v[3];
+    for (int c = 0; c < 3; ++c) {
+      const std::uint8_t* p = corners + 12 * c;
+      v[c] = builder.vertex({coordinate(p), coordinate(p + 4), coordinate(p + 8)}, what);
+    }
+    builder.triangle(v[0], v[1], v[2]);
+  }
+}
+
+std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path, const std::atomic<bool>* stop) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw IoError(fmt::format("cannot read mesh '{}': it is a directory", path.string()));
   // A device or a FIFO is refused by what it is (io/detail/regular_file.h).
   try {
-    const std::string bytes = read_regular_file(path, std::numeric_limits<std::uint64_t>::max());
+    const std::string bytes = read_regular_file(path, input_file_byte_limit(), stop);
     return std::vector<std::uint8_t>(bytes.begin(), bytes.end());
   } catch (const IoError& e) {
     throw IoError(fmt::format("cannot read mesh: {}", e.what()));
@@ -340,7 +365,7 @@ bool is_triangle_mesh_extension(std::string_view extension) noexcept {
 }
 
 TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::string_view extension,
-                                    const std::string& source) {
+                                    const std::string& source, const std::atomic<bool>* stop) {
   const std::string ext = lowercase(extension);
   if (!is_triangle_mesh_extension(ext))
     throw UnsupportedError(
@@ -348,14 +373,19 @@ TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::st
         fmt::format("unknown mesh format '{}': trivox reads .stl, .obj, .ply and .3mf meshes", extension));
   TriangleMeshFile out;
   out.source = source;
-  MeshBuilder builder(out);
+  MeshBuilder builder(out, stop);
+  throw_if_stopped(stop, "reading a mesh");
   if (ext == ".3mf") {
     out.format = "3MF";
     io_detail::read_3mf(std::vector<std::uint8_t>(bytes.begin(), bytes.end()), builder, source);
   } else if (ext == ".stl") {
     out.format = check_stl(bytes, source);
-    if (out.format == "ASCII STL") check_ascii_stl(bytes, source);
-    read_with_assimp(bytes, "stl", builder, out);
+    if (out.format == "ASCII STL") {
+      check_ascii_stl(bytes, source, stop);
+      read_with_assimp(bytes, "stl", builder, out);
+    } else {
+      read_binary_stl(bytes, builder, out);
+    }
   } else if (ext == ".ply") {
     out.format = "PLY";
     check_ply_header(bytes, source);
@@ -364,6 +394,7 @@ TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::st
     out.format = "OBJ";
     read_with_assimp(bytes, "obj", builder, out);
   }
+  throw_if_stopped(stop, "reading a mesh");
   if (out.triangles.empty())
     throw InputError(source, 0, out.format,
                      fmt::format("the file holds no triangle ({} with a repeated vertex, {} points or lines)",
@@ -371,14 +402,14 @@ TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::st
   return out;
 }
 
-TriangleMeshFile read_triangle_mesh(const std::filesystem::path& path) {
+TriangleMeshFile read_triangle_mesh(const std::filesystem::path& path, const std::atomic<bool>* stop) {
   const std::string ext = lowercase(path.extension().string());
   if (!is_triangle_mesh_extension(ext))
     throw UnsupportedError(path.string(), 0, "",
                            fmt::format("unknown mesh format '{}': trivox reads .stl, .obj, .ply and .3mf meshes",
                                        path.extension().string()));
-  const std::vector<std::uint8_t> bytes = read_bytes(path);
-  return read_triangle_mesh(bytes, ext, path.string());
+  const std::vector<std::uint8_t> bytes = read_bytes(path, stop);
+  return read_triangle_mesh(bytes, ext, path.string(), stop);
 }
 
 }  // namespace trivox

@@ -6,11 +6,14 @@
 #include <cstdint>
 #include <utility>
 
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 
 namespace trivox {
 
 namespace {
+
+constexpr const char* kChecking = "checking a mesh for self-intersections";
 
 // One use of an edge by a triangle: the edge's vertices (lower first), the triangle, and
 // whether the triangle runs along it from the lower vertex to the higher.
@@ -20,11 +23,12 @@ struct EdgeUse {
   bool forward;
 };
 
-std::vector<EdgeUse> edge_uses(const std::vector<SlicedMesh::Triangle>& triangles) {
+std::vector<EdgeUse> edge_uses(const std::vector<SlicedMesh::Triangle>& triangles, StopPoll& stop) {
   std::vector<EdgeUse> uses;
   uses.reserve(triangles.size() * 3);
   for (std::size_t t = 0; t < triangles.size(); ++t)
     for (std::size_t e = 0; e < 3; ++e) {
+      stop.step();
       const auto a = static_cast<std::uint32_t>(triangles[t][e]),
                  b = static_cast<std::uint32_t>(triangles[t][(e + 1) % 3]);
       const std::uint64_t lo = std::min(a, b), hi = std::max(a, b);
@@ -172,9 +176,10 @@ bool triangles_intersect(const std::array<Vec3, 3>& a, const std::array<Vec3, 3>
 namespace {
 
 // The edge checks: open, non-manifold and misoriented edges, from the sorted uses.
-void check_edges(const std::vector<SlicedMesh::Triangle>& tris, MeshCheck& r) {
-  const std::vector<EdgeUse> uses = edge_uses(tris);
+void check_edges(const std::vector<SlicedMesh::Triangle>& tris, MeshCheck& r, StopPoll& stop) {
+  const std::vector<EdgeUse> uses = edge_uses(tris, stop);
   for (std::size_t i = 0; i < uses.size();) {
+    stop.step();
     std::size_t j = i;
     while (j < uses.size() && uses[j].key == uses[i].key) ++j;
     // Sorted by triangle within an edge: the first use names the lowest triangle.
@@ -192,22 +197,26 @@ void check_edges(const std::vector<SlicedMesh::Triangle>& tris, MeshCheck& r) {
 // Triangles with the corners of an earlier one (in any order: a part exported twice, a face
 // repeated): each is noted with the earlier one and marked, so that the intersection test,
 // which would find every copy overlapping every other, sees only the first.
-std::vector<std::uint8_t> mark_duplicates(const std::vector<SlicedMesh::Triangle>& tris, MeshDefect& d) {
+std::vector<std::uint8_t> mark_duplicates(const std::vector<SlicedMesh::Triangle>& tris, MeshDefect& d,
+                                          StopPoll& stop) {
   std::vector<std::pair<std::array<int, 3>, int>> keys(tris.size());
   for (std::size_t t = 0; t < tris.size(); ++t) {
+    stop.step();
     std::array<int, 3> k{tris[t][0], tris[t][1], tris[t][2]};
     std::sort(k.begin(), k.end());
     keys[t] = {k, static_cast<int>(t)};
   }
   std::sort(keys.begin(), keys.end());
   std::vector<std::uint8_t> repeat(tris.size(), 0);
-  for (std::size_t i = 1; i < keys.size(); ++i)
+  for (std::size_t i = 1; i < keys.size(); ++i) {
+    stop.step();
     if (keys[i].first == keys[i - 1].first) {
       std::size_t first = i - 1;
       while (first > 0 && keys[first - 1].first == keys[i].first) --first;
       repeat[static_cast<std::size_t>(keys[i].second)] = 1;
       note(d, keys[i].second, keys[first].second);
     }
+  }
   return repeat;
 }
 
@@ -230,9 +239,8 @@ class PairSearch {
   // Counts one pair looked at; false once the budget is spent (the search then stops).
   bool spend() {
     if (r_.intersections_cut_short) return false;
-    if ((spent_++ & 0xFFFF) == 0 && params_.stop != nullptr && params_.stop->load())
-      throw CancelledError("stopped while checking a mesh for self-intersections");
-    if (spent_ > budget_) r_.intersections_cut_short = true;
+    stop_.step();
+    if (++spent_ > budget_) r_.intersections_cut_short = true;
     return !r_.intersections_cut_short;
   }
   std::array<Vec3, 3> corners(int t) const {
@@ -263,6 +271,7 @@ class PairSearch {
   std::vector<std::uint8_t> skip_;  // duplicates and triangles without a plane: never tested
   MeshCheck& r_;
   std::int64_t budget_ = 0, spent_ = 0;
+  StopPoll stop_{params_.stop, kChecking};
   std::vector<Box3> boxes_;
   std::vector<Range> ranges_;
   std::vector<std::pair<std::uint64_t, int>> entries_;
@@ -280,6 +289,7 @@ void PairSearch::grid(const Box3& box) {
   boxes_.assign(n, Box3{});
   std::vector<double> sizes(n);
   for (std::size_t t = 0; t < n; ++t) {
+    stop_.step();
     for (int v : tris_[t]) boxes_[t].expand(verts_[static_cast<std::size_t>(v)]);
     sizes[t] = max_abs(boxes_[t].hi - boxes_[t].lo);
   }
@@ -295,6 +305,7 @@ void PairSearch::grid(const Box3& box) {
   ranges_.resize(n);
   std::vector<std::int64_t> cells(n, 0);
   for (std::size_t t = 0; t < n; ++t) {
+    stop_.step();
     Range& g = ranges_[t];
     for (int d = 0; d < 3; ++d) {
       g.lo[d] = index(boxes_[t].lo[d], box.lo[d]);
@@ -313,6 +324,7 @@ void PairSearch::grid(const Box3& box) {
   large_.assign(n, 0);
   entries_.reserve(static_cast<std::size_t>(entries_at(most)));
   for (std::size_t t = 0; t < n; ++t) {
+    stop_.step();
     if (skip_[t]) continue;
     if (cells[t] > most) {
       large_[t] = 1;
@@ -325,6 +337,7 @@ void PairSearch::grid(const Box3& box) {
           entries_.push_back({static_cast<std::uint64_t>((x << 42) | (y << 21) | z), static_cast<int>(t)});
   }
   std::sort(entries_.begin(), entries_.end());
+  throw_if_stopped(params_.stop, kChecking);
 }
 
 // Pairs that share a cell, each tested in the first cell (lowest x, then y, then z index) of
@@ -352,6 +365,7 @@ void PairSearch::cell_pairs() {
 // A large triangle against every other whose box it overlaps.
 void PairSearch::large_pairs() {
   for (std::size_t s = 0; s < tris_.size(); ++s) {
+    stop_.step();
     if (!large_[s]) continue;
     for (std::size_t t = 0; t < tris_.size(); ++t) {
       if (t == s || (large_[t] && t < s) || skip_[t]) continue;
@@ -372,15 +386,21 @@ void PairSearch::run(const Box3& box) {
 MeshCheck check_mesh(const SlicedMesh& mesh, const MeshCheckParams& params) {
   MeshCheck r;
   const auto& tris = mesh.triangles();
-  check_edges(tris, r);
-  std::vector<std::uint8_t> repeat = mark_duplicates(tris, r.duplicate_triangles);
+  // Every loop over the triangles, edges and grid entries reads the stop flag (a sort of
+  // millions between them takes about a second), so that a large mesh stops when asked.
+  StopPoll stop(params.stop, kChecking);
+  check_edges(tris, r, stop);
+  throw_if_stopped(params.stop, kChecking);
+  std::vector<std::uint8_t> repeat = mark_duplicates(tris, r.duplicate_triangles, stop);
+  throw_if_stopped(params.stop, kChecking);
   if (!params.self_intersections || tris.size() < 2) return r;
   PairSearch(mesh, params, std::move(repeat), r).run(mesh.bounds());
   return r;
 }
 
 std::size_t orient_consistently(const std::vector<Vec3>& vertices, std::vector<SlicedMesh::Triangle>& triangles) {
-  const std::vector<EdgeUse> uses = edge_uses(triangles);
+  StopPoll no_stop(nullptr, "");
+  const std::vector<EdgeUse> uses = edge_uses(triangles, no_stop);
   // Neighbours across edges of exactly two triangles, with whether the two run along the edge
   // the same way (then one of them must flip for them to agree).
   std::vector<std::vector<std::pair<int, bool>>> next(triangles.size());

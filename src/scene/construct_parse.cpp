@@ -158,7 +158,7 @@ Constructed run(std::string_view kind, const JsonView& node, SceneContext& ctx, 
   std::string key;
   if (cache != nullptr && !cache->program_identity().empty()) {
     key = cache_key(kind, node, ctx, cache->program_identity());
-    if (std::optional<Constructed> hit = cache->load(key)) {
+    if (std::optional<Constructed> hit = cache->load(key, ctx.stop())) {
       const std::optional<std::string> problem = probe(*hit);
       if (!problem) return std::move(*hit);
       cache->reject(key, *problem);

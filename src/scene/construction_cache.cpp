@@ -297,7 +297,7 @@ const std::string& ConstructionCache::program_identity() {
 
 std::filesystem::path ConstructionCache::entry_path(const std::string& key) const { return dir_ / (key + ".volume"); }
 
-std::optional<Constructed> ConstructionCache::load(const std::string& key) {
+std::optional<Constructed> ConstructionCache::load(const std::string& key, const std::atomic<bool>* stop) {
   if (program_identity().empty()) return std::nullopt;
   const std::filesystem::path path = entry_path(key);
   if (not_a_regular_file(path) == "no file") return std::nullopt;
@@ -306,11 +306,13 @@ std::optional<Constructed> ConstructionCache::load(const std::string& key) {
   // copied, so anything may stand there.
   std::string problem;
   try {
-    const std::string bytes = read_regular_file(path, max_entry_bytes());
+    const std::string bytes = read_regular_file(path, max_entry_bytes(), stop);
     if (auto built = decode_construction_entry(bytes, key, &problem)) {
       ++hits_;
       return built;
     }
+  } catch (const CancelledError&) {
+    throw;  // a stop is no fault of the entry
   } catch (const IoError& e) {
     warnings_.push_back(
         fmt::format("construction cache: cannot use {}: {}; the volume is built again", path.string(), e.what()));

@@ -21,10 +21,12 @@ const TriangleMeshFile& SceneContext::triangle_mesh(const JsonView& file_field) 
   if (const auto it = meshes_.find(key); it != meshes_.end()) return it->second;
   try {
     // Hashed before it is read, as model files are.
-    std::string digest = sha256_file(path).sha256;
-    const TriangleMeshFile& mesh = meshes_.emplace(key, read_triangle_mesh(path)).first->second;
+    std::string digest = sha256_file(path, stop()).sha256;
+    const TriangleMeshFile& mesh = meshes_.emplace(key, read_triangle_mesh(path, stop())).first->second;
     input_files_.push_back(SceneInputFile{file_field.string(), std::move(digest)});
     return mesh;
+  } catch (const CancelledError&) {
+    throw;  // a stop is no fault of the file
   } catch (const UnsupportedError& e) {
     throw UnsupportedError(source_, 0, file_field.pointer(),
                            fmt::format("the mesh file \"{}\" cannot be read: {}", file_field.string(), e.what()));

@@ -23,11 +23,13 @@ const Model& SceneContext::model(const JsonView& file_field) {
   try {
     // Hashed before it is parsed: a file changed in between makes the job refuse to resume
     // rather than mix two versions.
-    std::string digest = sha256_file(path).sha256;
-    const Model& model = models_.emplace(key, read_model(path)).first->second;
+    std::string digest = sha256_file(path, stop()).sha256;
+    const Model& model = models_.emplace(key, read_model(path, stop())).first->second;
     model_sha256_[key] = digest;
     input_files_.push_back(SceneInputFile{name, std::move(digest)});
     return model;
+  } catch (const CancelledError&) {
+    throw;  // a stop is no fault of the file
   } catch (const UnsupportedError& e) {
     throw UnsupportedError(source_, 0, file_field.pointer(),
                            fmt::format("the model file \"{}\" uses an unsupported feature: {}", name, e.what()));

@@ -1,12 +1,14 @@
 // Input files by kind and by content before they are trusted: a path that names a device, a
 // FIFO or a directory is refused as what it is (never read, never blocking, never "missing");
 // an ASCII STL vertex of two numbers names its line; a model number that would overflow is
-// refused where it is read, naming the line.
+// refused where it is read, naming the line; a stop flag ends every reader of input files
+// as a stop, not as a fault of the file.
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -20,8 +22,10 @@
 
 #include "mesh/mesh_fixtures.h"
 #include "scene/scene_test_util.h"
+#include "trivox/cancel.h"
 #include "trivox/error.h"
 #include "trivox/io/detail/regular_file.h"
+#include "trivox/io/detail/sha256.h"
 #include "trivox/io/model.h"
 #include "trivox/io/triangle_mesh.h"
 #include "trivox/limits.h"
@@ -170,6 +174,81 @@ TEST(InputFile, ARationalSplineWhoseWrittenNumbersWouldOverflowIsRefusedOnItsLin
   std::ostringstream out;
   write_itd(out, m);
   EXPECT_NO_THROW((void)read_itd(out.str(), "again.itd"));
+}
+
+// The reads of a few numbers each a model's parser makes (tokens, values) read the flag at
+// the first and then every 65536th: a raised flag is seen within that many, not at the end.
+TEST(InputFile, AStopPollReadsTheFlagAtTheFirstStepAndEvery65536th) {
+  std::atomic<bool> stop{false};
+  StopPoll poll(&stop, "counting");
+  poll.step();  // the first: read, lowered
+  stop = true;
+  for (int i = 1; i < 65536; ++i) ASSERT_NO_THROW(poll.step()) << i;
+  try {
+    poll.step();
+    ADD_FAILURE() << "the 65537th step did not read the flag";
+  } catch (const CancelledError& e) {
+    EXPECT_STREQ(e.what(), "stopped while counting");
+  }
+  StopPoll none(nullptr, "nothing");
+  for (int i = 0; i < 70000; ++i) ASSERT_NO_THROW(none.step());
+}
+
+// A volume of 30 x 30 x 30 control points: 108,000 numbers in a file, past one poll's span.
+Model big_model() {
+  std::vector<double> knots{0, 0};
+  for (int i = 1; i <= 28; ++i) knots.push_back(i / 29.0);
+  knots.push_back(1);
+  knots.push_back(1);
+  const KnotVector kv(2, knots);
+  std::vector<double> points;
+  for (int k = 0; k < 30; ++k)
+    for (int j = 0; j < 30; ++j)
+      for (int i = 0; i < 30; ++i) points.insert(points.end(), {i * 1.0, j * 1.0, k * 1.0});
+  return Model{"big", {Patch{"V", 0, 0, TensorSpline({kv, kv, kv}, 3, points)}}, {}};
+}
+
+// Reading a model or a mesh file (SIGTERM from a scheduler, Ctrl-C) stops at the flag: each
+// reader from text, each file reader, the hash a scene takes of its files. With the flag
+// lowered, the same calls read the same inputs.
+TEST(InputFile, AStopFlagEndsEveryReaderOfModelsAndMeshesAsAStop) {
+  const Model model = big_model();
+  std::atomic<bool> stop{true};
+  const fs::path dir = test::scratch_dir();
+  using Reader = Model (*)(std::string_view, const std::string&, const std::atomic<bool>*);
+  const std::tuple<ModelFormat, Reader, const char*> formats[] = {{ModelFormat::kItd, &read_itd, "big.itd"},
+                                                                  {ModelFormat::kG2, &read_g2, "big.g2"},
+                                                                  {ModelFormat::kGismoXml, &read_gismo_xml, "big.xml"}};
+  for (const auto& [format, reader, name] : formats) {
+    SCOPED_TRACE(name);
+    std::ostringstream out;
+    write_model(out, model, format);
+    test::write_file(dir / name, out.str());
+    stop = true;
+    EXPECT_THROW((void)reader(out.str(), name, &stop), CancelledError);
+    EXPECT_THROW((void)read_model(dir / name, &stop), CancelledError);
+    EXPECT_THROW((void)sha256_file(dir / name, &stop), CancelledError);
+    stop = false;
+    const Model back = reader(out.str(), name, &stop);
+    ASSERT_EQ(back.patches.size(), 1u);
+    const auto got = back.patches[0].spline.points(), want = model.patches[0].spline.points();
+    EXPECT_TRUE(std::equal(got.begin(), got.end(), want.begin(), want.end()));
+    EXPECT_EQ(read_model(dir / name, &stop).patches.size(), 1u);
+  }
+  const test::TestMesh sphere = test::sphere_mesh({0, 0, 0}, 1, 40, 80);
+  const std::pair<std::string, const char*> meshes[] = {
+      {test::binary_stl(sphere), "s.stl"}, {test::ascii_stl(sphere), "a.stl"}, {test::obj_text(sphere), "s.obj"}};
+  for (const auto& [bytes, name] : meshes) {
+    SCOPED_TRACE(name);
+    test::write_file(dir / name, bytes);
+    const std::span<const std::uint8_t> data(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    const std::string ext = fs::path(name).extension().string();
+    stop = true;
+    EXPECT_THROW((void)read_triangle_mesh(data, ext, name, &stop), CancelledError);
+    EXPECT_THROW((void)read_triangle_mesh(dir / name, &stop), CancelledError);
+    stop = false;
+    EXPECT_EQ(read_triangle_mesh(data, ext, name, &stop).triangles.size(), sphere.triangles.size());
+  }
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 // an entry replaced with other geometry, its SHA-256 recomputed, is caught by the check of the
 // volume against its inputs, for every constructor, and built again; a genuine entry passes
 // that check.
+#include <atomic>
 #include <bit>
 
 #include <gtest/gtest.h>
@@ -13,6 +14,7 @@
 #include "harness/fuzz_harness.h"
 #include "harness/pipeline_job.h"
 #include "scene/scene_test_util.h"
+#include "trivox/error.h"
 #include "trivox/scene/construction_cache.h"
 #include "trivox/scene/scene.h"
 
@@ -129,6 +131,25 @@ TEST(ConstructionCacheTrust, AnEntryThatIsNoRegularFileIsAWarningAndARebuild) {
     expect_same_points(s.cells[0].volume, plain.cells[0].volume);
     fs::remove_all(entry);
   }
+}
+
+// A stop (SIGTERM, Ctrl-C) while an entry is read ends the reading as a stop: not a warning, not
+// a rebuild, and the entry stays for the next run, which takes it.
+TEST(ConstructionCacheTrust, AStopWhileAnEntryIsReadIsAStopAndLeavesTheEntry) {
+  const ordered_json geometry = constructions().front();
+  const fs::path dir = test::scratch_dir();
+  ConstructionCache first(dir / "cache");
+  read(dir, geometry, &first);
+  const fs::path entry = only_entry(dir / "cache");
+  const std::string key = entry.stem().string();
+  ConstructionCache cache(dir / "cache");
+  std::atomic<bool> stop{true};
+  EXPECT_THROW((void)cache.load(key, &stop), CancelledError);
+  EXPECT_TRUE(cache.warnings().empty());
+  EXPECT_TRUE(fs::is_regular_file(entry));
+  stop = false;
+  EXPECT_TRUE(cache.load(key, &stop).has_value());
+  EXPECT_EQ(cache.hits(), 1);
 }
 
 }  // namespace

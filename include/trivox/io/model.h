@@ -2,6 +2,7 @@
 // with where each came from, so errors and reports can point back into the file.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <iosfwd>
 #include <optional>
@@ -68,17 +69,20 @@ struct Model {
 // Reads a model by file type: `.itd` (IRIT text), `.xml` (G+Smo) or `.g2` (GoTools). Throws
 // InputError (file, line, rule) on malformed content, UnsupportedError on valid but
 // unsupported types (e.g. THBSpline3), IoError when the file cannot be read. Never returns a
-// partial model.
-Model read_model(const std::filesystem::path& path);
+// partial model. `stop` (optional, may be set from a signal handler) is read while the file
+// is read and every 65536 numbers while it is parsed: once it is raised, CancelledError
+// (error.h). A file is at most input_file_byte_limit() (limits.h) bytes, checked before it is
+// read.
+Model read_model(const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr);
 
-// IRIT .itd text. `source` names the input in error messages.
-Model read_itd(std::string_view text, const std::string& source);
-// G+Smo XML.
-Model read_gismo_xml(std::string_view text, const std::string& source);
+// IRIT .itd text. `source` names the input in error messages; `stop` as for read_model.
+Model read_itd(std::string_view text, const std::string& source, const std::atomic<bool>* stop = nullptr);
+// G+Smo XML. The XML parse itself (pugixml, about a gigabyte a second) does not read `stop`.
+Model read_gismo_xml(std::string_view text, const std::string& source, const std::atomic<bool>* stop = nullptr);
 // GoTools .g2 text: SplineCurve, SplineSurface and SplineVolume objects (classes 100, 200,
 // 700); objects of other classes are skipped, each with a note in Model::notes. At least one
 // object must be read.
-Model read_g2(std::string_view text, const std::string& source);
+Model read_g2(std::string_view text, const std::string& source, const std::atomic<bool>* stop = nullptr);
 
 // Writes every patch as an IRIT object (TRIVAR/SURFACE/CURVE BSPLINE, E<d> or P<d>, KV or
 // KVP), with enough digits (17 significant) that reading it back gives identical doubles.

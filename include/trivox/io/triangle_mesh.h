@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -46,12 +47,14 @@ bool is_triangle_mesh_extension(std::string_view extension) noexcept;
 
 // Reads a mesh file by its extension (any case). Throws InputError for malformed content or
 // a file with no triangle, UnsupportedError for another extension, IoError when the file
-// cannot be read.
-TriangleMeshFile read_triangle_mesh(const std::filesystem::path& path);
+// cannot be read. `stop` (optional, may be set from a signal handler) is read while the file
+// is read, checked and welded: once it is raised, CancelledError (error.h). The one step that
+// does not read it is the third-party parser (assimp, lib3mf), bounded by the file's size.
+TriangleMeshFile read_triangle_mesh(const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr);
 
 // The same from bytes in memory; `extension` names the format as above and `source` the
 // input in messages.
 TriangleMeshFile read_triangle_mesh(std::span<const std::uint8_t> bytes, std::string_view extension,
-                                    const std::string& source);
+                                    const std::string& source, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox

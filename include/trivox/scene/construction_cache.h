@@ -20,6 +20,7 @@
 // file. Failing to read or write the cache never fails the reading of the scene: a warning.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -43,8 +44,9 @@ class ConstructionCache {
 
   // The volume stored under `key` (64 hex digits), or nullopt when there is none, or it is
   // damaged (a warning), or the running program cannot be identified (a warning, once; the
-  // cache is then not used).
-  std::optional<Constructed> load(const std::string& key);
+  // cache is then not used). `stop` (optional) is read while the entry is read: once it is
+  // raised, CancelledError.
+  std::optional<Constructed> load(const std::string& key, const std::atomic<bool>* stop = nullptr);
   // Stores `built` under `key`, replacing a damaged entry; a failure is a warning.
   void store(const std::string& key, const Constructed& built);
   // Takes back the volume load() returned for `key`: its caller found that it does not agree

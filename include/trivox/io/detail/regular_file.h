@@ -7,6 +7,7 @@
 // library that names no path.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -24,7 +25,9 @@ std::optional<std::string> not_a_regular_file(const std::filesystem::path& path)
 // (O_NONBLOCK, so that a FIFO put in its place returns at once) and its kind and size are
 // taken from the opened descriptor (fstat), so that what is read is what was checked: a
 // regular file of at most `max_bytes`, else IoError naming the path and what it is, before
-// anything is allocated. A file that changes size while it is read is an IoError too.
-std::string read_regular_file(const std::filesystem::path& path, std::uint64_t max_bytes);
+// anything is allocated. A file that changes size while it is read is an IoError too. `stop`
+// (optional) is read before each 16 MiB read: once it is raised, CancelledError.
+std::string read_regular_file(const std::filesystem::path& path, std::uint64_t max_bytes,
+                              const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox

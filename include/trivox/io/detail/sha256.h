@@ -6,6 +6,7 @@
 // output file.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -36,11 +37,12 @@ class Sha256 {
 std::string sha256_hex(std::string_view bytes);
 
 // The digest of a file and its size in bytes, read in blocks. Throws IoError naming the path
-// when it cannot be opened or read.
+// when it cannot be opened or read; CancelledError once `stop` (optional) is raised, read
+// before each block.
 struct FileDigest {
   std::uint64_t bytes = 0;
   std::string sha256;
 };
-FileDigest sha256_file(const std::filesystem::path& path);
+FileDigest sha256_file(const std::filesystem::path& path, const std::atomic<bool>* stop = nullptr);
 
 }  // namespace trivox
