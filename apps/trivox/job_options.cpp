@@ -57,7 +57,10 @@ void parse_shard(const std::string& text, JobParams& p) {
 
 void add_job_options(CLI::App& cmd, JobOptions& o, bool output_required) {
   cmd.add_option("scene", o.scene, "Scene file (JSON, docs/SCENE.md)")->required();
-  auto* out = cmd.add_option("-o,--output", o.output, "Output folder (created if missing)");
+  // validate checks the folder as slice would, creating nothing (output_folder_problem).
+  auto* out = cmd.add_option("-o,--output", o.output,
+                             output_required ? "Output folder (created if missing)"
+                                             : "Output folder to check as slice would (nothing is created)");
   if (output_required) out->required();
   cmd.add_option("-j,--threads", o.threads, "Worker threads (default: all cores)")->check(thread_count());
   cmd.add_option("--layers", o.layers, "Only layers FIRST:LAST (1-based, inclusive)");

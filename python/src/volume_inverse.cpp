@@ -26,10 +26,12 @@ InverseParams inverse_params(double residual_tolerance_model, int max_iterations
   return p;
 }
 
-py::object volume_invert(const PyVolume& self, const py::handle& points, const py::handle& hint,
+py::object volume_invert(const PyVolume& self, const py::handle& points, const py::handle& hint, bool certified,
                          double residual_tolerance_model, int max_iterations, double outside_slack_relative,
                          int threads) {
-  const InverseParams params = inverse_params(residual_tolerance_model, max_iterations, outside_slack_relative);
+  GlobalSolveParams global;
+  global.newton = inverse_params(residual_tolerance_model, max_iterations, outside_slack_relative);
+  const InverseParams& params = global.newton;
   const Vec3Batch x = vec3_batch(points, "points");
   // The hint: one for all points (None: the centre of the domain), or one per point.
   std::optional<Vec3Batch> hints;
@@ -55,9 +57,13 @@ py::object volume_invert(const PyVolume& self, const py::handle& points, const p
   std::int32_t* it = iterations.mutable_data();
   {
     const ReleaseForBatch release(xs.size());
+    // Built once (and kept with the volume) before the workers share it.
+    const GlobalSolver* solver = certified ? &self.solver() : nullptr;
     for_chunks(xs.size(), threads, [&](std::size_t b, std::size_t e) {
       for (std::size_t i = b; i < e; ++i) {
-        const InverseResult res = invert(self.volume, xs[i], hs ? hs[i] : one_hint, params);
+        const Vec3 h = hs ? hs[i] : one_hint;
+        const InverseResult res =
+            solver ? invert_certified(self.volume, *solver, xs[i], h, global) : invert(self.volume, xs[i], h, params);
         u[i] = res.uvw;
         st[i] = static_cast<std::uint8_t>(res.status);
         r[i] = res.residual;
@@ -160,15 +166,20 @@ void bind_volume_inverse(py::module_& m, VolumeClass& volume) {
   m.attr("_global_status_names") = enum_names(5, [](int i) { return to_string(static_cast<GlobalStatus>(i)); });
   volume
       .def("invert", &volume_invert, py::arg("points"), py::arg("hint") = py::none(), py::kw_only(),
-           py::arg("residual_tolerance_model") = InverseParams{}.residual_tolerance_model,
+           py::arg("certified") = true, py::arg("residual_tolerance_model") = InverseParams{}.residual_tolerance_model,
            py::arg("max_iterations") = InverseParams{}.max_iterations,
            py::arg("outside_slack_relative") = InverseParams{}.outside_slack_relative, py::arg("threads") = 0,
            R"doc(
-Damped Newton from a hint, kept inside the domain (trivox::invert), for every point:
-points (..., 3) in model units; hint None (the domain's centre), one (u, v, w), or one per
-point. Returns Inversion(uvw, status, residual, iterations); status holds InverseStatus codes
-(CONVERGED, OUTSIDE, NO_CONVERGENCE, SINGULAR). The keyword arguments are InverseParams with
-their C++ defaults. Newton finds the preimage near the hint; invert_global finds every one.
+The parameters (u, v, w) of every point: points (..., 3) in model units; hint None (the
+domain's centre), one (u, v, w), or one per point. Certified by default
+(trivox::invert_certified): damped Newton from the hint, and where it does not converge the
+global solver, which finds the preimage (the one nearest the hint) or proves the point
+outside. certified=False runs Newton alone (trivox::invert), faster where every point is
+known to be near its hint, and may then leave points inside unsolved. Returns
+Inversion(uvw, status, residual, iterations); status holds InverseStatus codes (CONVERGED,
+OUTSIDE, NO_CONVERGENCE, SINGULAR; .statuses gives them as InverseStatus members, which print
+by name). The other keyword arguments are InverseParams with their C++ defaults;
+invert_global finds every preimage.
 )doc")
       .def("invert_global", &volume_invert_global, py::arg("points"), py::kw_only(),
            py::arg("residual_tolerance_model") = InverseParams{}.residual_tolerance_model,

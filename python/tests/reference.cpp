@@ -1,6 +1,7 @@
 // The C++ side of python/tests/test_library_equal.py: evaluates or inverts points through the
-// library's C++ API alone, one point at a time (Volume::evaluate, evaluate_jacobian, invert
-// from the domain's centre, GlobalSolver::solve with the default parameters), so the module's
+// library's C++ API alone, one point at a time (Volume::evaluate, evaluate_jacobian,
+// invert_certified and invert from the domain's centre, GlobalSolver::solve with the default
+// parameters), so the module's
 // bulk and parallel paths can be compared with it bit for bit.
 //
 //   trivox_python_reference MODEL TRIVARIATE MODE POINTS.f64 OUT.f64 [deboor]
@@ -9,7 +10,8 @@
 // values (native byte order). OUT.f64 receives float64 values per point:
 //   evaluate: x, y, z
 //   jacobian: x, y, z, then J row by row (J[r][c] = dV_r / dp_c)
-//   invert:   u, v, w, status, residual, iterations
+//   invert:   u, v, w, status, residual, iterations (invert_certified, Volume.invert's default)
+//   newton:   the same from invert (Newton alone, Volume.invert(certified=False))
 //   global:   status, boxes visited, preimage count k, then k x (u, v, w, residual, det)
 // With `deboor` the volume keeps the de Boor kernel (VolumeOptions::power_form = false).
 #include <cstdio>
@@ -53,8 +55,10 @@ int main(int argc, char** argv) {
         volume.evaluate_jacobian(p, x, j);
         out.insert(out.end(), {x.x, x.y, x.z});
         for (const auto& row : j.m) out.insert(out.end(), row.begin(), row.end());
-      } else if (mode == "invert") {
-        const InverseResult r = invert(volume, p, volume.domain().center());
+      } else if (mode == "invert" || mode == "newton") {
+        const Vec3 centre = volume.domain().center();
+        const InverseResult r =
+            mode == "invert" ? invert_certified(volume, solver, p, centre) : invert(volume, p, centre);
         out.insert(out.end(), {r.uvw.x, r.uvw.y, r.uvw.z, static_cast<double>(r.status), r.residual,
                                static_cast<double>(r.iterations)});
       } else if (mode == "global") {
@@ -63,7 +67,7 @@ int main(int argc, char** argv) {
                                static_cast<double>(r.preimages.size())});
         for (const Preimage& q : r.preimages) out.insert(out.end(), {q.uvw.x, q.uvw.y, q.uvw.z, q.residual, q.det});
       } else {
-        std::fprintf(stderr, "unknown mode '%s' (evaluate, jacobian, invert, global)\n", mode.c_str());
+        std::fprintf(stderr, "unknown mode '%s' (evaluate, jacobian, invert, newton, global)\n", mode.c_str());
         return 2;
       }
     }

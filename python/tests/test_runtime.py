@@ -95,6 +95,12 @@ def test_importing_trivox_needs_no_numpy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == trivox.__version__
     assert trivox.__version__.count(".") == 2
+    # ... but it says at once what is missing and how to get it, naming the interpreter.
+    assert "numpy is not installed for this Python (" + sys.executable + ")" in out.stderr, out.stderr
+    assert "apt install python3-numpy" in out.stderr
+    # With numpy there, nothing is said.
+    quiet = subprocess.run([sys.executable, "-c", "import trivox"], capture_output=True, text=True, check=True)
+    assert quiet.stderr == ""
 
 
 def test_simd_targets_can_be_chosen_and_evaluate_alike(column):

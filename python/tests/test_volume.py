@@ -120,7 +120,7 @@ def test_newton_finds_the_parameters_of_points_inside(column):
 
 def test_newton_stops_on_the_face_below_a_point_above_the_volume(column):
     above = column.evaluate([[1.5, 1.5, 3.0]]) + [0, 0, 1]
-    r = column.invert(above, [1.5, 1.5, 2.9])
+    r = column.invert(above, [1.5, 1.5, 2.9], certified=False)
     assert r.status[0] in (trivox.InverseStatus.OUTSIDE, trivox.InverseStatus.NO_CONVERGENCE)
     assert r.uvw[0, 2] == 3.0  # held on the face w = 3
     assert abs(r.residual[0] - 1.0) < 0.1
@@ -128,6 +128,34 @@ def test_newton_stops_on_the_face_below_a_point_above_the_volume(column):
                                       [[i, j, k] for k in (0, 1) for j in (0, 1) for i in (0, 1)]))
     r = box.invert([[0.5, 0.5, 1.5]])
     assert r.status[0] == trivox.InverseStatus.OUTSIDE and r.uvw[0].tolist() == [0.5, 0.5, 1.0]
+    # Certified (the default), the same point is proved outside: the same status, Newton's iterate.
+    proved = column.invert(above, [1.5, 1.5, 2.9])
+    assert proved.status[0] == trivox.InverseStatus.OUTSIDE and proved.uvw[0, 2] == 3.0
+
+
+def test_invert_is_certified_by_default_on_a_revolved_solid():
+    """A solid cylinder revolved from a rectangle that touches the z axis: from the domain's
+    centre Newton alone stops SINGULAR for about half of its points (the axis is where det J
+    vanishes); the default finds every point inside and proves the points beyond outside.
+    Statuses print by name."""
+    profile = trivox.Spline([2, 2], [[0, 0, 1, 1], [0, 0, 1, 1]], [[0, 0, 0], [10, 0, 0], [0, 0, 10], [10, 0, 10]])
+    ring = trivox.revolve(profile).volume
+    rng = np.random.default_rng(3)
+    lo, hi = ring.domain[:, 0], ring.domain[:, 1]
+    p = lo + (hi - lo) * rng.uniform(0.001, 0.999, (2000, 3))
+    x = ring.evaluate(p)
+    newton = ring.invert(x, certified=False)
+    r = ring.invert(x)
+    assert (r.status == trivox.InverseStatus.CONVERGED).all(), np.bincount(r.status)
+    np.testing.assert_allclose(ring.evaluate(r.uvw), x, atol=1e-6)
+    # The reported failure: Newton alone from the centre leaves points inside unsolved.
+    assert (newton.status == trivox.InverseStatus.SINGULAR).sum() > 500
+    outside = ring.invert([[0.0, 0.0, -1.0], [20.0, 0.0, 5.0], [7.0, 0.0, 11.0]])
+    assert (outside.status == trivox.InverseStatus.OUTSIDE).all()
+    assert repr(outside.statuses.tolist()) == "[OUTSIDE, OUTSIDE, OUTSIDE]"
+    assert str(trivox.InverseStatus.CONVERGED) == "CONVERGED" and trivox.InverseStatus.CONVERGED == 0
+    g = ring.invert_global([[0.0, 7.0, 5.0]])  # off the seam at angle 0, where two faces meet
+    assert g.statuses.shape == (1,) and str(g.statuses[0]) == "UNIQUE"
 
 
 def test_the_global_solver_lists_every_preimage_with_offsets(column):
@@ -202,6 +230,40 @@ def test_gismo_and_gotools_files_read_back_to_the_same_doubles(column, tmp_path,
     text = trivox.to_gismo_xml([column, vol]) if ext == ".xml" else trivox.to_g2([column, vol])
     reread = trivox.read_gismo_xml(text) if ext == ".xml" else trivox.read_g2(text)
     assert reread.volumes()[1] == vol
+
+
+def _ulps_apart(a, b):
+    """How many doubles lie between a and b (0: equal), elementwise."""
+    ia = np.asarray(a, dtype=np.float64).view(np.int64)
+    ib = np.asarray(b, dtype=np.float64).view(np.int64)
+    # Same-signed doubles order as their bit patterns; the random points below keep their sign.
+    return np.abs(ia - ib)
+
+
+@pytest.mark.parametrize("ext", [".itd", ".g2", ".xml"])
+def test_each_format_keeps_what_write_and_its_docstring_promise(tmp_path, ext):
+    """write(), to_itd() and to_g2() promise: knots, weights and polynomial points the same
+    doubles in every format, rational points too from .xml, and within an ulp from .itd and .g2
+    (FORMATS.md). Random coordinates and weights from 1e-6 to 1e6, where w x rarely divides back."""
+    rng = np.random.default_rng(11)
+    kv = [0, 0, 0, 0.25, 1, 1, 1]
+    pts = rng.uniform(1.0, 10.0, (64, 3)) * rng.choice([-1.0, 1.0], (64, 3))
+    w = np.exp(rng.uniform(-6 * np.log(10), 6 * np.log(10), 64))
+    rational = trivox.Spline([3, 3, 3], [kv] * 3, pts, w)
+    polynomial = trivox.Spline([3, 3, 3], [kv] * 3, pts)
+    path = tmp_path / ("round" + ext)
+    trivox.write(path, [rational, polynomial])
+    back = [p.spline for p in trivox.read(str(path)).patches]
+    assert len(back) == 2
+    assert back[1] == polynomial
+    r = back[0]
+    assert [k.tolist() for k in r.knots] == [k.tolist() for k in rational.knots]
+    assert bits(r.weights) == bits(rational.weights)
+    apart = _ulps_apart(r.points, rational.points)
+    if ext == ".xml":
+        assert apart.max() == 0
+    else:
+        assert apart.max() <= 1, apart.max()
 
 
 def test_a_broken_spline_raises_model_error_naming_the_rule():

@@ -17,8 +17,21 @@ Importing trivox needs no numpy; the calls that take or return arrays do.
 from __future__ import annotations
 
 import enum as _enum
+import importlib.util as _importlib_util
 import os as _os
+import sys as _sys
+import warnings as _warnings
 from typing import Any, Union as _Union
+
+if _importlib_util.find_spec("numpy") is None:
+    # Importing works without numpy, but most calls take or return arrays: say at once what
+    # is missing and how to get it, rather than leave a bare ModuleNotFoundError for later.
+    _warnings.warn(
+        f"trivox: numpy is not installed for this Python ({_sys.executable}); the calls that take "
+        "or return arrays need it. Install it (Debian: apt install python3-numpy) or run trivox "
+        "with a Python that has it (docs/PYTHON.md, 'Setting up').",
+        stacklevel=2,
+    )
 
 from . import _trivox
 from ._trivox import (
@@ -92,17 +105,45 @@ from .materials import (
 from .scene import Cell, CellInfo, MaterialDef, NamedVolume, Region, Scene, Shell, Trim, Union, read_scene
 from .slicing import JobResult, Layer, Slicer, slice, slice_layer
 
+class _Status(_enum.IntEnum):
+    """A status code that compares as its number and prints as its name."""
+
+    def __repr__(self) -> str:
+        return self.name
+
+    __str__ = __repr__
+
+
 # Status codes of Volume.invert and Volume.invert_global, in the C++ enums' order (the arrays
 # hold these values as uint8).
-InverseStatus = _enum.IntEnum(  # type: ignore[misc]
+InverseStatus = _Status(  # type: ignore[call-overload]
     "InverseStatus", [(n.upper().replace("-", "_"), i) for i, n in enumerate(_trivox._inverse_status_names)],
     module=__name__)
-GlobalStatus = _enum.IntEnum(  # type: ignore[misc]
+GlobalStatus = _Status(  # type: ignore[call-overload]
     "GlobalStatus", [(n.upper().replace("-", "_"), i) for i, n in enumerate(_trivox._global_status_names)],
     module=__name__)
 
-InverseStatus.__doc__ = ("Status codes of Volume.invert (trivox::InverseStatus): CONVERGED, OUTSIDE (held on the "
-                         "domain's boundary), NO_CONVERGENCE (iterations spent), SINGULAR (the Jacobian vanished).")
+
+def _statuses_of(kind: Any) -> property:
+    def statuses(self: Any) -> Any:
+        import numpy as np
+
+        codes = np.asarray(self.status)
+        named = np.empty(codes.shape, dtype=object)
+        named.flat[:] = [kind(int(c)) for c in codes.flat]
+        return named
+
+    statuses.__doc__ = (f"The status array as {kind.__name__} members (an object array of the same shape), "
+                        "which print by name.")
+    return property(statuses)
+
+
+Inversion.statuses = _statuses_of(InverseStatus)  # type: ignore[attr-defined]
+GlobalInversion.statuses = _statuses_of(GlobalStatus)  # type: ignore[attr-defined]
+
+InverseStatus.__doc__ = ("Status codes of Volume.invert (trivox::InverseStatus): CONVERGED, OUTSIDE (proved "
+                         "outside by the global solver; with certified=False held on the domain's boundary), "
+                         "NO_CONVERGENCE (iterations spent), SINGULAR (the Jacobian vanished).")
 GlobalStatus.__doc__ = ("Status codes of Volume.invert_global (trivox::GlobalStatus): NONE (no preimage, proved), "
                         "UNIQUE, MULTIPLE (the volume folds over the point), DEGENERATE (preimages only where det J "
                         "vanishes), INCOMPLETE (the box budget ran out).")

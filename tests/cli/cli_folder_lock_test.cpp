@@ -158,5 +158,19 @@ TEST_F(CliFolderLock, ValidateRefusesTheOutputFoldersSliceRefusesWithTheSameMess
   EXPECT_TRUE(fs::is_regular_file(file));
 }
 
+// validate's -o is checked, never created, and its help says so (slice's help says it is
+// created, which slice does).
+TEST_F(CliFolderLock, ValidateCreatesNoOutputFolderAndItsHelpSaysSo) {
+  const fs::path folder = dir_.path() / "new" / "job";
+  const CliResult validated =
+      run_cli(fmt::format("validate {} -o {} --samples 1", shell_quote(dir_.path() / "box.json"), shell_quote(folder)));
+  EXPECT_EQ(validated.exit_code, 0) << validated.err;
+  EXPECT_FALSE(fs::exists(dir_.path() / "new"));
+  const CliResult help = run_cli("validate --help");
+  EXPECT_NE(help.out.find("nothing is created"), std::string::npos) << help.out;
+  EXPECT_EQ(help.out.find("created if missing"), std::string::npos) << help.out;
+  EXPECT_NE(run_cli("slice --help").out.find("created if missing"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace trivox::test

@@ -143,4 +143,20 @@ class GlobalSolver {
   double typical_abs_det_ = 1.0;
 };
 
+// The certified inverse of one point: Newton from `hint` (invert), and where it does not
+// converge, the global solver, which either finds the preimages or proves there is none. What
+// a caller gets:
+//   kConverged - Newton's solution, or where Newton failed the global solver's preimage
+//                nearest the hint (its residual; a fold has several: the nearest is taken);
+//   kOutside   - proved outside: the global solver excluded the whole domain (uvw is Newton's
+//                last iterate, on the boundary);
+//   kSingular  - preimages only where det J vanishes (a collapsed axis): the nearest one;
+//   Newton's own status (kOutside, kNoConvergence, kSingular) where the solver's box budget
+//                ran out before it found or excluded anything.
+// `params.newton` runs both Newton's and the solver's iterations; `solver` must be built on
+// `volume`. Python's Volume.invert does this by default, as `trivox probe` and the slicer
+// decide what Newton alone cannot.
+InverseResult invert_certified(const Volume& volume, const GlobalSolver& solver, Vec3 x, Vec3 hint,
+                               const GlobalSolveParams& params = {});
+
 }  // namespace trivox
