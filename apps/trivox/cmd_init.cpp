@@ -47,7 +47,7 @@ void run_init(const InitOptions& o) {
   const Vec3 size = scene.bounds().size();
   fmt::print("wrote {}: a {:g} x {:g} x {:g} mm box graded from {} to {} along x, for printer {}\n", o.path, size.x,
              size.y, size.z, scene.materials[0].name, scene.materials[1].name, scene.printer.name);
-  for (const std::string& w : colour_warnings(scene, job_background(scene, JobParams{})))
+  for (const std::string& w : colour_warnings(scene, job_preview_background(scene, JobParams{})))
     fmt::print("warning: {}\n", w);
   fmt::print("next: trivox validate {0}   (checks it and estimates the job)\n", o.path);
   fmt::print("      trivox slice {0} -o {1}   (prints it)\n", o.path,

@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "cli_checks.h"
 #include "cli_errors.h"
@@ -129,10 +130,25 @@ void print_job_lines(const SliceOptions& so, const Scene& scene, const Slicer& s
              "mm layers)\n",
              scene.cells.size(), scene.num_materials(), scene.printer.name, L.num_layers, L.width_px, L.height_px,
              L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
+  // A greyscale job exposes grey levels: say how; the dithering concerns only the formats that
+  // show materials (the previews, Voxel Print), when there are any.
+  std::vector<std::string> dithered;
+  for (const std::string& f : so.job.formats)
+    if (!layer_writer_writes_greys(f)) dithered.push_back(f);
+  if (scene.greyscale) {
+    const GreyscaleDef& g = *scene.greyscale;
+    fmt::print(stderr, "trivox: greyscale: {}, edges anti-aliased {} x {} sub-samples\n",
+               g.material >= 0
+                   ? fmt::format("the fraction of {}", scene.materials[static_cast<std::size_t>(g.material)].name)
+                   : std::string("each cell's greyscale source"),
+               g.antialiasing, g.antialiasing);
+    if (dithered.empty()) return;
+  }
   const DitherParams& d = slicer.dither_params();
-  fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels\n", dither_method_name(d),
+  fmt::print(stderr, "trivox: dithering {}{}, {}, skin {} voxels{}\n", dither_method_name(d),
              d.method == DitherMethod::kErrorDiffusion ? (d.serpentine ? " (serpentine)" : " (raster order)") : "",
-             d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels);
+             d.vary_by_layer ? "varied by layer" : "the same in every layer", d.skin_voxels,
+             scene.greyscale ? fmt::format(", for {}", fmt::join(dithered, ", ")) : std::string());
 }
 
 void run(const SliceOptions& so) {
@@ -163,7 +179,7 @@ void run(const SliceOptions& so) {
   slice_job.check_fits(slicer);
   print_job_lines(so, scene, slicer);
   // Warnings go to standard error even with -q: they are about the result, not progress.
-  for (const std::string& w : colour_warnings(scene, job_background(scene, job)))
+  for (const std::string& w : colour_warnings(scene, job_preview_background(scene, job)))
     fmt::print(stderr, "trivox: warning: {}\n", w);
   TerminalProgress progress(so.quiet);
   JobStats st;

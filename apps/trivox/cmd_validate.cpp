@@ -43,7 +43,8 @@ void run_validate(const ValidateOptions& v) {
   fmt::print("{}: {} cells, {} materials, printer {}\n", o.scene, scene.cells.size(), scene.num_materials(),
              scene.printer.name);
   print_estimate(e);
-  for (const std::string& w : colour_warnings(scene, job_background(scene, job))) fmt::print("  warning: {}\n", w);
+  for (const std::string& w : colour_warnings(scene, job_preview_background(scene, job)))
+    fmt::print("  warning: {}\n", w);
   if (!o.output.empty()) {
     if (const auto free = free_disk_bytes(job.output_dir))
       fmt::print("  free disk at {}: {}\n", o.output, byte_text(*free));
@@ -138,7 +139,8 @@ void print_scene_info(const std::string& scene_path) {
   for (const MaterialDef& m : scene.materials)
     fmt::print("  material {}: rgba {},{},{},{}\n", m.name, m.rgba[0], m.rgba[1], m.rgba[2], m.rgba[3]);
   fmt::print("  pixels {:.4f} x {:.4f} mm, layers {:.4f} mm\n", L.pitch_x_mm, L.pitch_y_mm, L.layer_mm);
-  for (const std::string& w : colour_warnings(scene, job_background(scene, job))) fmt::print("  warning: {}\n", w);
+  for (const std::string& w : colour_warnings(scene, job_preview_background(scene, job)))
+    fmt::print("  warning: {}\n", w);
   fmt::print("estimate for `trivox slice` with the default options:\n");
   print_estimate(estimate_job(slicer, job));
 }

@@ -222,6 +222,21 @@ std::vector<std::string> colour_warnings(const Scene& scene, const std::array<st
   for (const MaterialDef& m : scene.materials) rgba.push_back(m.rgba);
   const std::vector<Rgb> shown = display_colours(rgba, background);
   std::vector<std::string> lines;
+  // The previews' background is chosen apart from every material; one given with --background
+  // (or, with many materials, the best there is) may not be.
+  const Rgb back{background[0], background[1], background[2]};
+  for (std::size_t j = 0; j < rgba.size(); ++j) {
+    const Rgb own{rgba[j][0], rgba[j][1], rgba[j][2]};
+    const double d = colour_difference(own, back);
+    if (d >= kDistinctColourDifference) continue;
+    const Rgb& c = shown[j];
+    lines.push_back(fmt::format(
+        "material '{}' (#{:02X}{:02X}{:02X}) has nearly the previews' background colour #{:02X}{:02X}{:02X} "
+        "(difference {:.1f}, below {:g}), so previews show it as #{:02X}{:02X}{:02X}; choose another "
+        "--background or give the material a colour of its own (\"rgba\") to see it as it is",
+        scene.materials[j].name, own[0], own[1], own[2], back[0], back[1], back[2], d, kDistinctColourDifference, c[0],
+        c[1], c[2]));
+  }
   for (const SimilarColours& pair : similar_colours(rgba)) {
     const MaterialDef& a = scene.materials[static_cast<std::size_t>(pair.first)];
     const MaterialDef& b = scene.materials[static_cast<std::size_t>(pair.second)];

@@ -63,9 +63,10 @@ std::optional<std::uint64_t> memory_limit_of(const JobOptions& o);
 // Estimate lines for a person, each "  name: value".
 void print_estimate(const JobEstimate& e);
 
-// One line per pair of materials whose colours are nearly equal (output/display_colours.h),
-// saying how previews show them; empty when every colour is distinct. `background` is the
-// job's (previews keep materials apart from it too).
+// One line per material whose colour is nearly the previews' `background`
+// (job_preview_background) and per pair of materials whose colours are nearly equal
+// (output/display_colours.h), saying how previews show them; empty when every colour is
+// distinct.
 std::vector<std::string> colour_warnings(const Scene& scene, const std::array<std::uint8_t, 4>& background);
 
 }  // namespace trivox::cli

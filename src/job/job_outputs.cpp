@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "trivox/error.h"
+#include "trivox/output/display_colours.h"
 
 namespace trivox {
 
@@ -38,6 +39,13 @@ std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& 
   throw Error("no grey is free for the background: give --background");  // 64 materials cannot take 256 greys
 }
 
+std::array<std::uint8_t, 4> job_preview_background(const Scene& scene, const JobParams& params) {
+  if (params.background_rgba) return *params.background_rgba;
+  std::vector<Rgba> rgba;
+  for (const MaterialDef& m : scene.materials) rgba.push_back(m.rgba);
+  return preview_background(rgba);
+}
+
 namespace detail {
 
 // The context of the job's writers: the scene's materials and printer (with the greyscale
@@ -56,6 +64,7 @@ OutputContext job_output_context(const Slicer& slicer, const JobParams& params, 
     ctx.material_library.push_back(m.library);
   }
   ctx.background_rgba = job_background(scene, params);
+  ctx.preview_background_rgba = job_preview_background(scene, params);
   ctx.prefix = params.prefix;
   ctx.total_layers = total_layers;
   ctx.model_layers = model_layers;
@@ -70,9 +79,15 @@ OutputContext job_output_context(const Slicer& slicer, const JobParams& params, 
   ctx.png = params.png;
   ctx.printer = scene.printer;
   if (ctx.printer.display && scene.greyscale) {
-    if (scene.greyscale->exposure_s) ctx.printer.display->exposure_s = *scene.greyscale->exposure_s;
-    if (scene.greyscale->initial_exposure_s)
-      ctx.printer.display->initial_exposure_s = *scene.greyscale->initial_exposure_s;
+    const GreyscaleDef& g = *scene.greyscale;
+    MaskedDisplay& d = *ctx.printer.display;
+    if (g.exposure_s) d.exposure_s = *g.exposure_s;
+    if (g.initial_exposure_s) d.initial_exposure_s = *g.initial_exposure_s;
+    // The profile's resin stands only for the profile's exposures.
+    if (g.resin)
+      d.resin = *g.resin;
+    else if (g.exposure_s || g.initial_exposure_s)
+      d.resin.clear();
   }
   ctx.gcvf.material_codes = params.gcvf.material_codes;
   ctx.gcvf.omit_unused = params.gcvf.omit_unused;

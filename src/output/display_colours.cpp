@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace trivox {
 
@@ -74,11 +75,26 @@ std::vector<SimilarColours> similar_colours(const std::vector<Rgba>& materials) 
   return pairs;
 }
 
+Rgba preview_background(const std::vector<Rgba>& materials) {
+  constexpr Rgba kCandidates[] = {
+      {0, 0, 0, 255}, {255, 255, 255, 255}, {64, 64, 64, 255}, {128, 128, 128, 255}, {192, 192, 192, 255}};
+  Rgba best = kCandidates[0];
+  double best_nearest = -1;
+  for (const Rgba& c : kCandidates) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Rgba& m : materials) nearest = std::min(nearest, colour_difference(rgb_of(c), rgb_of(m)));
+    if (nearest >= kDisplayColourSeparation) return c;
+    if (nearest > best_nearest) best = c, best_nearest = nearest;
+  }
+  return best;
+}
+
 std::vector<Rgb> display_colours(const std::vector<Rgba>& materials, const Rgba& background) {
   std::vector<Rgb> shown;
   const Rgb back = rgb_of(background);
   const auto distinct_from_shown = [&](const Rgb& c) {
-    return std::all_of(shown.begin(), shown.end(),
+    return colour_difference(c, back) >= kDistinctColourDifference &&
+           std::all_of(shown.begin(), shown.end(),
                        [&](const Rgb& s) { return colour_difference(c, s) >= kDistinctColourDifference; });
   };
   for (const Rgba& m : materials) {

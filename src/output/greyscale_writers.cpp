@@ -204,8 +204,6 @@ class Sl1Writer final : public LayerWriter {
       seconds += layer_exposure_s(i) + (is_fast ? display_.fast_tilt_s : display_.slow_tilt_s);
       used_mm3 += static_cast<double>(exposed_[static_cast<std::size_t>(i)]) * pixel_area_mm2() * c_.layer_mm;
     }
-    std::string names;
-    for (const std::string& n : c_.material_names) names += (names.empty() ? "" : ", ") + n;
     // Keys in PrusaSlicer's (alphabetical) order. fileCreationTimestamp is fixed so that the
     // archive depends only on the job.
     std::string x;
@@ -217,11 +215,13 @@ class Sl1Writer final : public LayerWriter {
     x += "hollow = 0\n";
     x += fmt::format("jobDir = {}\n", job_dir_);
     x += fmt::format("layerHeight = {}\n", ini_number(c_.layer_mm));
-    x += fmt::format("materialName = {}\n", names);
+    // The resin the exposures are for (MaskedDisplay::resin), not the scene's materials, which
+    // on a resin printer are grey levels of that one resin.
+    x += fmt::format("materialName = {}\n", display_.resin.empty() ? "unnamed resin" : display_.resin);
     x += fmt::format("numFade = {}\n", display_.faded_layers);
     x += fmt::format("numFast = {}\n", fast);
     x += fmt::format("numSlow = {}\n", c_.total_layers - fast);
-    x += "printProfile = \n";
+    x += fmt::format("printProfile = {} mm greyscale (trivox)\n", ini_number(c_.layer_mm));
     x += fmt::format("printTime = {:.6f}\n", seconds);
     x += fmt::format("printerModel = {}\n", display_.printer_model);
     x += fmt::format("printerProfile = {}\n", c_.printer.name);
@@ -256,21 +256,29 @@ class Sl1Writer final : public LayerWriter {
   }
 
   // A top view for the printer's screen: every pixel exposed in some layer, in PrusaSlicer's
-  // default resin colour, fitted into w x h at the bitmap's proportions (square pixels),
-  // transparent around it.
+  // default resin colour; the box of those pixels fitted into w x h with a margin of a twentieth
+  // on each side, centred, at its proportions (square pixels), transparent around it.
   std::string thumbnail(int w, int h) const {
     std::vector<std::uint8_t> rgba(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4, 0);
-    const int bw = c_.width_px, bh = c_.height_px;
-    if (bw > 0 && bh > 0) {
-      const double scale = std::min(static_cast<double>(w) / bw, static_cast<double>(h) / bh);
-      const int tw = std::clamp(static_cast<int>(std::lround(bw * scale)), 1, w);
-      const int th = std::clamp(static_cast<int>(std::lround(bh * scale)), 1, h);
+    const int bw = c_.width_px;
+    int x_lo = bw, x_hi = -1, y_lo = c_.height_px, y_hi = -1;
+    for (int y = 0; y < c_.height_px; ++y)
+      for (int x = 0; x < bw; ++x)
+        if (top_view_[static_cast<std::size_t>(y) * static_cast<std::size_t>(bw) + static_cast<std::size_t>(x)] != 0) {
+          x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x);
+          y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
+        }
+    if (x_hi >= 0) {
+      const int cw = x_hi - x_lo + 1, ch = y_hi - y_lo + 1;
+      const double scale = 0.9 * std::min(static_cast<double>(w) / cw, static_cast<double>(h) / ch);
+      const int tw = std::clamp(static_cast<int>(std::lround(cw * scale)), 1, w);
+      const int th = std::clamp(static_cast<int>(std::lround(ch * scale)), 1, h);
       const int x0 = (w - tw) / 2, y0 = (h - th) / 2;
       for (int y = 0; y < th; ++y)
         for (int x = 0; x < tw; ++x) {
           const std::uint8_t g =
-              top_view_[static_cast<std::size_t>(source_index(y, th, bh)) * static_cast<std::size_t>(bw) +
-                        static_cast<std::size_t>(source_index(x, tw, bw))];
+              top_view_[static_cast<std::size_t>(y_lo + source_index(y, th, ch)) * static_cast<std::size_t>(bw) +
+                        static_cast<std::size_t>(x_lo + source_index(x, tw, cw))];
           if (g == 0) continue;
           std::uint8_t* p =
               rgba.data() +

@@ -20,9 +20,9 @@ class LayerPreviewWriter final : public LayerWriter {
  public:
   LayerPreviewWriter(OutputContext c, std::vector<std::pair<int, int>> layers)
       : c_(std::move(c)), layers_(std::move(layers)) {
-    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
+    palette_.push_back({c_.preview_background_rgba[0], c_.preview_background_rgba[1], c_.preview_background_rgba[2]});
     // Display colours: a material whose colour is nearly another's shows in a distinct one.
-    for (const Rgb& m : display_colours(c_.material_rgba, c_.background_rgba)) palette_.push_back(m);
+    for (const Rgb& m : display_colours(c_.material_rgba, c_.preview_background_rgba)) palette_.push_back(m);
     std::sort(layers_.begin(), layers_.end());
     std::error_code ec;
     std::filesystem::create_directories(c_.dir / "preview", ec);

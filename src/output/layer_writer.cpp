@@ -154,6 +154,7 @@ struct LayerWriterFormat {
   bool stack;                            // what its writers' needs_whole_stack() says
   bool names_files_by_material = false;  // bitmaps and legacy name their files after the materials
   bool voxel_print = false;              // what GrabCAD Voxel Print reads (its stacks have a minimum height)
+  bool greys = false;                    // what its writers' takes_grey() says: grey levels, not materials
 };
 constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"voxelprint",
@@ -164,9 +165,9 @@ constexpr LayerWriterFormat kLayerWriterFormats[] = {
     {"tiff", detail::make_tiff_stack_writer, true},
     {"vdb", detail::make_vdb_writer, true},
     {"gcvf", detail::make_gcvf_writer, true, false, true},
-    {"greyscale", detail::make_greyscale_stack_writer, false},
-    {"sl1", detail::make_sl1_writer, true},
-    {"sl1s", detail::make_sl1s_writer, true},
+    {"greyscale", detail::make_greyscale_stack_writer, false, false, false, true},
+    {"sl1", detail::make_sl1_writer, true, false, false, true},
+    {"sl1s", detail::make_sl1s_writer, true, false, false, true},
     {"preview", detail::make_preview_writer, true},
 };
 
@@ -193,6 +194,12 @@ bool layer_writer_names_files_by_material(std::string_view format) {
 bool layer_writer_feeds_voxel_print(std::string_view format) {
   for (const LayerWriterFormat& f : kLayerWriterFormats)
     if (f.name == format) return f.voxel_print;
+  return false;
+}
+
+bool layer_writer_writes_greys(std::string_view format) {
+  for (const LayerWriterFormat& f : kLayerWriterFormats)
+    if (f.name == format) return f.greys;
   return false;
 }
 

@@ -31,9 +31,9 @@ constexpr std::uint8_t kGridGray = 128;  // lines between thumbnails
 class PreviewWriter final : public LayerWriter {
  public:
   explicit PreviewWriter(OutputContext c) : c_(std::move(c)) {
-    palette_.push_back({c_.background_rgba[0], c_.background_rgba[1], c_.background_rgba[2]});
+    palette_.push_back({c_.preview_background_rgba[0], c_.preview_background_rgba[1], c_.preview_background_rgba[2]});
     // Display colours: a material whose colour is nearly another's shows in a distinct one.
-    for (const Rgb& m : display_colours(c_.material_rgba, c_.background_rgba)) palette_.push_back(m);
+    for (const Rgb& m : display_colours(c_.material_rgba, c_.preview_background_rgba)) palette_.push_back(m);
     grid_index_ = static_cast<std::uint8_t>(palette_.size());
     palette_.push_back({kGridGray, kGridGray, kGridGray});
     const int n = std::max(1, c_.model_layers);

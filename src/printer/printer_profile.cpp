@@ -28,8 +28,16 @@ constexpr std::array<PrintMode, 3> kPolyJetModes{{
 // area_fill and tilt times (the SL1's are PrusaSlicer's defaults: 50 %, 5 s, 8 s) and the
 // exposure of each printer's default material, "Prusa Orange Tough @0.05" (7.5 s, 35 s first)
 // and "... @0.05 SL1S" (2 s, 25 s first), 10 faded layers.
-MaskedDisplay sl1_display() { return {2560, 1440, 120.96, 68.04, true, true, false, "SL1", 50, 5, 8, 7.5, 35, 10}; }
-MaskedDisplay sl1s_display() { return {2560, 1620, 128.0, 81.0, true, true, false, "SL1S", 45, 2.5, 5, 2, 25, 10}; }
+MaskedDisplay sl1_display() {
+  MaskedDisplay d{2560, 1440, 120.96, 68.04, true, true, false, "SL1", 50, 5, 8, 7.5, 35, 10};
+  d.resin = "Prusa Orange Tough @0.05";
+  return d;
+}
+MaskedDisplay sl1s_display() {
+  MaskedDisplay d{2560, 1620, 128.0, 81.0, true, true, false, "SL1S", 45, 2.5, 5, 2, 25, 10};
+  d.resin = "Prusa Orange Tough @0.05 SL1S";
+  return d;
+}
 
 struct BuiltinProfile {
   std::string_view name;

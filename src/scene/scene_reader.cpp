@@ -276,10 +276,10 @@ DitherParams parse_dithering(const JsonView& node) {
 }
 
 // "greyscale": {"source": {"material": NAME} or a scalar source, "curve": [[value, grey], ...],
-// "antialiasing": k, "exposure_s": s, "initial_exposure_s": s}. A scalar source is built for each cell (over the cell's
-// domain) once the cells are read.
+// "antialiasing": k, "exposure_s": s, "initial_exposure_s": s, "resin": NAME}. A scalar source is built for each cell
+// (over the cell's domain) once the cells are read.
 void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& scene) {
-  node.expect_object({"source", "curve", "antialiasing", "exposure_s", "initial_exposure_s"});
+  node.expect_object({"source", "curve", "antialiasing", "exposure_s", "initial_exposure_s", "resin"});
   GreyscaleDef def;
   const JsonView source = node.at("source");
   const bool material_source = source.is_object() && source.find("material");
@@ -316,6 +316,11 @@ void parse_greyscale(const JsonView& node, detail::SceneContext& ctx, Scene& sce
     def.exposure_s = exposure(*e, limits.min_exposure_s, limits.max_exposure_s);
   if (const auto e = node.find("initial_exposure_s"))
     def.initial_exposure_s = exposure(*e, limits.min_initial_exposure_s, limits.max_initial_exposure_s);
+  if (const auto r = node.find("resin")) {
+    // One line of config.ini: no control character, and short enough for the printer's screen.
+    def.resin = r->name("a resin");
+    if (def.resin->size() > 100) r->fail(fmt::format("a resin name of {} bytes; at most 100", def.resin->size()));
+  }
   if (!material_source)
     for (Cell& cell : scene.cells) cell.grey_source = detail::parse_scalar(source, ctx, cell.volume.domain());
   scene.greyscale = std::move(def);

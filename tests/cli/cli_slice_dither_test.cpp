@@ -36,6 +36,24 @@ TEST(CliSliceDither, OptionsOverrideTheScene) {
   EXPECT_NE(sheet.find("\n2,VeroYellow,VeroYellow,#FFED00FF,255,237,0,255\n"), std::string::npos) << sheet;
 }
 
+// A greyscale job says how it exposes its greys, and speaks of dithering only for the formats
+// that show materials (here the previews), never for the grey levels alone.
+TEST(CliSliceDither, AGreyscaleJobSaysHowItsGreysAreMadeNotHowItDithers) {
+  ScratchDir dir;
+  const std::string scene = shell_quote(examples_dir() / "scenes" / "column_greyscale_sl1s.json");
+  const CliResult greys =
+      run_cli("slice " + scene + " -o " + shell_quote(dir.path() / "g") + " --layers 1:2 --format greyscale,sl1s");
+  ASSERT_EQ(greys.exit_code, 0) << greys.err;
+  EXPECT_NE(greys.err.find("trivox: greyscale: the fraction of stiff, edges anti-aliased 4 x 4 sub-samples"),
+            std::string::npos)
+      << greys.err;
+  EXPECT_EQ(greys.err.find("dithering"), std::string::npos) << greys.err;
+  const CliResult with_preview =
+      run_cli("slice " + scene + " -o " + shell_quote(dir.path() / "p") + " --layers 1:2 --format sl1s,preview");
+  ASSERT_EQ(with_preview.exit_code, 0) << with_preview.err;
+  EXPECT_NE(with_preview.err.find(", for preview\n"), std::string::npos) << with_preview.err;
+}
+
 TEST(CliSliceDither, BadOptionsExit2AndSayWhy) {
   ScratchDir dir;
   const CliResult method = run_cli("slice " + kScene + " -o " + shell_quote(dir.path()) + " -q --dither ordered");

@@ -2,6 +2,8 @@
 // preview colours that keep every material apart.
 #include "trivox/output/display_colours.h"
 
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "trivox/printer/material_library.h"
@@ -57,6 +59,30 @@ TEST(DisplayColours, PreviewsKeepEveryMaterialApart) {
         EXPECT_GE(colour_difference(shown[i], shown[j]), kDistinctColourDifference) << i << " " << j;
     }
   }
+}
+
+// The previews' background stands apart from every material: black for light materials (as
+// before), white for dark ones (the README's own VeroWhite + Agilus30Black pair cannot use
+// either: a mid grey), and where no candidate stands apart, the one farthest from its
+// nearest material; a material nearly the background is then shown in another colour.
+TEST(DisplayColours, ThePreviewBackgroundStandsApartFromEveryMaterial) {
+  const Rgba black{0, 0, 0, 255}, white{255, 255, 255, 255};
+  EXPECT_EQ(preview_background({library("VeroCyan"), library("VeroMagenta"), library("VeroWhite")}), black);
+  EXPECT_EQ(preview_background({library("Agilus30Black")}), white);
+  EXPECT_EQ(preview_background({library("VeroBlack"), library("VeroCyan")}), white);
+  const Rgba pair = preview_background({library("VeroWhite"), library("Agilus30Black")});
+  EXPECT_NE(pair, black);
+  EXPECT_NE(pair, white);
+  for (const char* m : {"VeroWhite", "Agilus30Black"})
+    EXPECT_GE(colour_difference(rgb(pair), rgb(library(m))), kDisplayColourSeparation) << m;
+  EXPECT_EQ(preview_background({}), black);
+  // Every candidate taken: the farthest from its nearest material, and never a failure.
+  const std::vector<Rgba> greys = {black, white, {64, 64, 64, 255}, {128, 128, 128, 255}, {192, 192, 192, 255}};
+  const Rgba chosen = preview_background(greys);
+  EXPECT_NE(std::find(greys.begin(), greys.end(), chosen), greys.end());
+  // A material equal to the background is moved off it.
+  const std::vector<Rgb> shown = display_colours({library("Agilus30Black")}, library("Agilus30Black"));
+  EXPECT_GE(colour_difference(shown[0], rgb(library("Agilus30Black"))), kDisplayColourSeparation);
 }
 
 }  // namespace

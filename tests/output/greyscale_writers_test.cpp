@@ -37,11 +37,12 @@ namespace fs = std::filesystem;
 
 // A long bar (20 x 2 mm) and a small block (2 x 2 mm) beside its end at x = 0, 1 mm tall,
 // graded along x so the greys vary: an image turned or mirrored the wrong way shows it.
-Scene bars_scene(const std::string& printer) {
+// `resin`: more keys of the greyscale block (",\"exposure_s\": 3", ...).
+Scene bars_scene(const std::string& printer, const std::string& resin = "") {
   const std::string json = fmt::format(R"({{
     "units": "mm", "printer": "{}",
     "materials": [{{ "name": "stiff", "rgba": [255, 128, 64] }}, {{ "name": "soft", "rgba": [64, 128, 255] }}],
-    "greyscale": {{ "source": {{ "material": "stiff" }}, "curve": [[0, 60], [1, 250]], "antialiasing": 2 }},
+    "greyscale": {{ "source": {{ "material": "stiff" }}, "curve": [[0, 60], [1, 250]], "antialiasing": 2 {} }},
     "cells": [
       {{ "name": "bar", "geometry": {{ "orders": [2, 2, 2], "knots": [[0, 0, 1, 1], [0, 0, 1, 1], [0, 0, 1, 1]],
          "points": [[0,0,0],[20,0,0],[0,2,0],[20,2,0],[0,0,1],[20,0,1],[0,2,1],[20,2,1]] }},
@@ -51,7 +52,7 @@ Scene bars_scene(const std::string& printer) {
         "material": "stiff" }}
     ]
   }})",
-                                       printer);
+                                       printer, resin);
   return parse_scene(json, fs::temp_directory_path() / "bars.json");
 }
 
@@ -196,6 +197,9 @@ TEST(Sl1Archive, LayersLieOnTheDisplayTurnedAndMirroredAsTheProfileSays) {
   EXPECT_EQ(config.at("expTimeFirst"), "25");
   EXPECT_EQ(std::stoi(config.at("numFast")) + std::stoi(config.at("numSlow")), 20);
   EXPECT_EQ(config.at("fileCreationTimestamp"), "1980-01-01 at 00:00:00 UTC");
+  // The resin the profile's exposures are for, not the scene's materials (grey levels of it).
+  EXPECT_EQ(config.at("materialName"), "Prusa Orange Tough @0.05 SL1S");
+  EXPECT_EQ(config.at("printProfile"), "0.05 mm greyscale (trivox)");
   EXPECT_EQ(config.size(), 19u);
   const auto settings = ini_of(members.at("prusaslicer.ini"));
   EXPECT_EQ(settings.at("display_pixels_x"), "2560");
@@ -206,13 +210,52 @@ TEST(Sl1Archive, LayersLieOnTheDisplayTurnedAndMirroredAsTheProfileSays) {
   EXPECT_EQ(settings.at("display_mirror_x"), "1");
   EXPECT_EQ(settings.at("display_mirror_y"), "0");
   EXPECT_EQ(settings.at("printer_technology"), "SLA");
+  // The thumbnails show the part (its exposed pixels' box), centred with a margin of a
+  // twentieth: the bars' box is 20 x 7 mm, wider than either thumbnail's shape.
   for (const char* thumb : {"thumbnail/thumbnail400x400.png", "thumbnail/thumbnail800x480.png"}) {
     const RgbaImage t = decode_png_rgba(members.at(thumb), thumb);
     EXPECT_EQ(fmt::format("thumbnail/thumbnail{}x{}.png", t.width_px, t.height_px), thumb);
+    int x_lo = t.width_px, x_hi = -1, y_lo = t.height_px, y_hi = -1;
+    for (int y = 0; y < t.height_px; ++y)
+      for (int x = 0; x < t.width_px; ++x)
+        if (t.rgba[4 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(t.width_px) +
+                        static_cast<std::size_t>(x)) +
+                   3] != 0)
+          x_lo = std::min(x_lo, x), x_hi = std::max(x_hi, x), y_lo = std::min(y_lo, y), y_hi = std::max(y_hi, y);
+    ASSERT_GE(x_hi, 0) << thumb;
+    EXPECT_LE(std::abs(x_lo - (t.width_px - 1 - x_hi)), 1) << thumb;   // as much room left as right
+    EXPECT_LE(std::abs(y_lo - (t.height_px - 1 - y_hi)), 1) << thumb;  // above as below
+    EXPECT_NEAR(x_hi - x_lo + 1, 0.9 * t.width_px, 2) << thumb;        // the width fills all but the margin
+    EXPECT_NEAR(static_cast<double>(y_hi - y_lo + 1) / (x_hi - x_lo + 1), 7.0 / 20.0, 0.02) << thumb;
   }
   const VerifyReport report = verify_output(p.output_dir);
   EXPECT_TRUE(report.ok()) << fmt::format("{}", fmt::join(report.problems, "\n"));
   fs::remove_all(p.output_dir);
+}
+
+// config.ini names the resin the exposures are for: the greyscale block's "resin", else the
+// profile's default resin while the exposures are the profile's, else "unnamed resin".
+TEST(Sl1Archive, ConfigNamesTheResinOfItsExposures) {
+  const std::pair<std::string, std::string> cases[] = {
+      {R"(, "resin": "Tough Grey @0.05", "exposure_s": 3)", "Tough Grey @0.05"},
+      {R"(, "exposure_s": 3)", "unnamed resin"},
+      {"", "Prusa Orange Tough @0.05"}};
+  for (const auto& [keys, resin] : cases) {
+    SCOPED_TRACE(keys);
+    const Scene scene = bars_scene("sl1", keys);  // the slicer keeps a reference
+    const Slicer slicer(scene, {});
+    const JobParams p = resin_params("resin", {"sl1"});
+    run_slice_job(slicer, p);
+    const auto config = ini_of(archive_members(p.output_dir / "sl1/slice.sl1").at("config.ini"));
+    EXPECT_EQ(config.at("materialName"), resin);
+    EXPECT_EQ(config.at("expTime"), keys.find("exposure_s") != std::string::npos ? "3" : "7.5");
+    fs::remove_all(p.output_dir);
+  }
+  EXPECT_THROW(bars_scene("sl1", R"(, "resin": "two
+lines")"),
+               InputError);
+  EXPECT_THROW(bars_scene("sl1", R"(, "resin": "")"), InputError);
+  EXPECT_THROW(bars_scene("sl1", ", \"resin\": \"" + std::string(101, 'r') + "\""), InputError);
 }
 
 TEST(Sl1Archive, SameBytesForAnyThreadCountAndAfterResume) {

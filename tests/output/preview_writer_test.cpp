@@ -117,6 +117,39 @@ TEST(PreviewWriter, IdenticalForOneAndThreeThreadsAndAfterResume) {
   fs::remove_all(b.output_dir);
 }
 
+// A dark material (Agilus30Black's #282828) on the printer images' black would be lost in the
+// previews: they take a background apart from every material (white here), while the printer
+// images keep black; a layer preview and the contact sheet both show it.
+TEST(PreviewWriter, ADarkMaterialIsShownOnABackgroundApartFromIt) {
+  Scene scene = preview_scene();
+  scene.materials[0].rgba = {40, 40, 40, 255};
+  scene.materials[1].rgba = {30, 30, 30, 255};
+  const Slicer slicer(scene, {});
+  JobParams p = preview_params("dark", 2);
+  p.preview_layers = {0};
+  run_slice_job(slicer, p);
+  EXPECT_EQ(job_background(scene, p), (std::array<std::uint8_t, 4>{0, 0, 0, 255}));
+  EXPECT_EQ(job_preview_background(scene, p), (std::array<std::uint8_t, 4>{255, 255, 255, 255}));
+  const RgbaImage printer = read_png_rgba(p.output_dir / "slice_00001.png");
+  EXPECT_EQ(printer.rgba[0], 0);  // a corner outside the object: black in the printer's image
+  const RgbaImage layer = read_png_rgba(p.output_dir / "preview" / "layer_00001.png");
+  EXPECT_EQ(layer.rgba[0], 255);  // the same corner: white in the layer's preview
+  EXPECT_EQ(layer.rgba[1], 255);
+  // The contact sheet (grey lines between its thumbnails): white around the parts, no black.
+  const RgbaImage sheet = read_png_rgba(p.output_dir / "preview" / "contact_sheet.png");
+  std::int64_t white = 0, black = 0;
+  for (std::size_t i = 0; i < sheet.rgba.size(); i += 4) {
+    white += sheet.rgba[i] == 255 && sheet.rgba[i + 1] == 255 && sheet.rgba[i + 2] == 255;
+    black += sheet.rgba[i] == 0 && sheet.rgba[i + 1] == 0 && sheet.rgba[i + 2] == 0;
+  }
+  EXPECT_GT(white, 0);
+  EXPECT_EQ(black, 0);
+  // One given with --background is the previews' too.
+  p.background_rgba = std::array<std::uint8_t, 4>{0, 0, 0, 255};
+  EXPECT_EQ(job_preview_background(scene, p), (std::array<std::uint8_t, 4>{0, 0, 0, 255}));
+  fs::remove_all(p.output_dir);
+}
+
 TEST(PreviewWriter, CannotBeSharded) {
   const Scene scene = preview_scene();
   const Slicer slicer(scene, {});

@@ -135,6 +135,11 @@ void check_job_settings(const Slicer& slicer, const JobParams& params);
 // the first of black, white and the greys (n, n, n) from n = 1 up that no material's opaque
 // colour takes.
 std::array<std::uint8_t, 4> job_background(const Scene& scene, const JobParams& params);
+// The background of the job's previews (layer previews, contact sheets, cuts): the one given
+// (JobParams::background_rgba), else chosen by contrast with every material
+// (preview_background, output/display_colours.h), so that a dark material is not lost on the
+// printer images' black.
+std::array<std::uint8_t, 4> job_preview_background(const Scene& scene, const JobParams& params);
 
 // The manifest this job starts from: tool version, inputs, effective settings and layer
 // count, status running, no files.

@@ -35,8 +35,15 @@ struct SimilarColours {
 // Every such pair, in order of (first, second). Alpha is ignored: previews are opaque.
 std::vector<SimilarColours> similar_colours(const std::vector<Rgba>& materials);
 
+// The background of the previews (a person's view, not the printer's images, which keep the
+// background their format needs): the first of black, white, and the greys 64, 128 and 192
+// that is at least kDisplayColourSeparation from every material's colour; when none is, the
+// one farthest from its nearest material. A dark material (Agilus30Black, #282828) is then
+// shown on white, not lost on black.
+Rgba preview_background(const std::vector<Rgba>& materials);
+
 // The preview colour of every material: its own RGB, unless it is nearly equal to the display
-// colour of an earlier material; then the first colour at least kDisplayColourSeparation from
+// colour of an earlier material or to the background; then the first colour at least kDisplayColourSeparation from
 // every earlier material's display colour and from the background, found by changing its
 // CIELAB lightness in steps of 15 (darker first), then from a fixed list of well-separated
 // colours. Deterministic.

@@ -43,6 +43,8 @@ struct OutputContext {
   std::vector<std::string> material_library;
   // The background of the printer images (its alpha is 255: printer images are opaque).
   std::array<std::uint8_t, 4> background_rgba{0, 0, 0, 255};
+  // The background of the previews, chosen by contrast with the materials (job_preview_background).
+  std::array<std::uint8_t, 4> preview_background_rgba{0, 0, 0, 255};
   std::string prefix = "slice_";    // common file-name prefix
   int total_layers = 1;             // sets the zero padding of the numbers
   int width_px = 0, height_px = 0;  // the layer images' size (the bitmap of the model's box)
@@ -149,6 +151,9 @@ bool layer_writer_names_files_by_material(std::string_view format);
 // Whether GrabCAD Voxel Print reads `format` (voxelprint, gcvf): such stacks are padded to its
 // minimum height (JobParams::min_layers); false for the others and for an unknown name.
 bool layer_writer_feeds_voxel_print(std::string_view format);
+// Whether `format` writes grey levels (greyscale, sl1, sl1s: its writers take_grey()) rather
+// than the dithered materials; false for the others and for an unknown name.
+bool layer_writer_writes_greys(std::string_view format);
 
 // The longest text (bytes) the job puts into a file name from its settings or the scene: the
 // prefix, a material's name.

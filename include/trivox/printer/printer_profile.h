@@ -45,6 +45,10 @@ struct MaskedDisplay {
   // that asks for more or less is refused; the archive would state it to the printer.
   double min_exposure_s = 1, max_exposure_s = 60;
   double min_initial_exposure_s = 10, max_initial_exposure_s = 120;
+  // The resin the exposures are for, as the archive's config.ini names it (materialName): the
+  // default resin profile's name, or the scene's greyscale "resin"; empty when not known (a
+  // printer of one's own, or exposures a scene set without naming its resin).
+  std::string resin;
 
   bool operator==(const MaskedDisplay&) const = default;
 };

@@ -82,6 +82,9 @@ struct GreyscaleDef {
   // The resin's exposure (seconds) of a layer and of the first layers, for the print archives;
   // absent: the printer profile's.
   std::optional<double> exposure_s, initial_exposure_s;
+  // The resin's name, for the print archives (config.ini's materialName); absent: the printer
+  // profile's default resin when the exposures are its own, else none.
+  std::optional<std::string> resin;
 };
 
 // A named trivariate of the scene ("volumes" in the scene file): a cell's parametrization
