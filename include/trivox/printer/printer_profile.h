@@ -48,7 +48,7 @@ struct MaskedDisplay {
   // The resin the exposures are for, as the archive's config.ini names it (materialName): the
   // default resin profile's name, or the scene's greyscale "resin"; empty when not known (a
   // printer of one's own, or exposures a scene set without naming its resin).
-  std::string resin;
+  std::string resin{};
 
   bool operator==(const MaskedDisplay&) const = default;
 };
