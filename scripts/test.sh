@@ -27,12 +27,16 @@ for preset in "${presets[@]}"; do
   # Heavy checks run in the release pass only. Under the sanitizers these are left out (each
   # takes from 10 s to over 3 minutes there, on the real models of ../shared/data or twenty
   # whole jobs; the same code runs under the sanitizers on the bundled models): the pixel
-  # decision's equivalence on the shared scenes and meshes, probe and info on every shared
-  # volume file, the chalice, the duck, the teapot and the shared models sliced whole, the
-  # twenty kills at random moments, and every example sliced at several thread counts (the
-  # determinism of the output, a release property; ThreadSanitizer checks the threads).
+  # decision's equivalence on the shared scenes and meshes and on the four largest bundled
+  # examples (the smaller ones run it here), probe and info on every shared volume file, the
+  # chalice, the duck, the teapot and the shared models sliced whole, the twenty kills at
+  # random moments, every example sliced at several thread counts (the determinism of the
+  # output, a release property; ThreadSanitizer checks the threads), and the pipeline
+  # fuzzer's checked-in inputs (scripts/fuzz.sh replays them under the same sanitizers).
   exclude=()
   heavy='LayerDecision.*(shared_scenes|EveryMeshTrimAndRule)|CliSharedProbe\.|CliInfo\.ReadsEveryShared'
+  heavy+='|LayerDecisionOfExample.*(column_scalar_gradient|column_greyscale_sl1s|twisted_column_porous|chalice)'
+  heavy+='|CliInfo\.JacobianClassesMatchProvenance|FuzzInputs\..*/pipeline'
   heavy+='|Chalice\.|FillInterior\.SharedDuck|DuckTrimmedBox\.|TeapotTrimmedBox\.|SharedModels\.'
   heavy+='|CliKill\.TwentyKills|DeterminismOfExample\.'
   [ "$preset" = asan ] && exclude=(-E "$heavy")

@@ -1,6 +1,7 @@
 // `trivox info MODEL [--json]`: what a model file holds, patch by patch: kind, orders,
 // control points, rational or not, parametric domain, the box of the control points (which
-// contains the patch) and, for trivariates with 3D points, a sampled Jacobian check.
+// contains the patch) and, for trivariates with 3D points, a sampled Jacobian check. For a
+// triangle mesh file: its counts, its box and the checks of a mesh trim.
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -14,11 +15,15 @@
 
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "stop_signal.h"
 #include "trivox/io/model.h"
+#include "trivox/io/triangle_mesh.h"
+#include "trivox/printer/printer_profile.h"
+#include "trivox/scene/mesh_file_report.h"
 #include "trivox/spline/jacobian_check.h"
 #include "trivox/spline/volume.h"
 
@@ -29,6 +34,7 @@ struct InfoOptions {
   std::string model_path;
   bool json = false;
   JacobianCheckParams jacobian;
+  std::string printer = "j750-hm";  // a mesh's intersections are judged at its finest pitch
 };
 
 constexpr std::array<const char*, 3> kParamNames = {"u", "v", "w"};
@@ -178,6 +184,63 @@ void print_text(const Model& model, const JacobianCheckParams& params) {
     print_patch_text(static_cast<int>(i), model.patches[i], params);
 }
 
+// A mesh file: what a mesh trim of it would be checked for, judged at the printer's finest
+// pitch as a scene with that printer judges it.
+void print_mesh_info(const InfoOptions& options) {
+  const PrinterProfile printer = builtin_printer_profile(options.printer);
+  const MeshFileReport r = describe_mesh_file(options.model_path, printer.finest_pitch_mm(), stop_on_signals());
+  const Vec3 size = r.bounds.size();
+  if (options.json) {
+    const nlohmann::ordered_json doc = {{"source", r.source},
+                                        {"format", r.format},
+                                        {"triangles", r.triangles},
+                                        {"vertices", r.vertices},
+                                        {"dropped_degenerate", r.dropped_degenerate},
+                                        {"ignored_primitives", r.ignored_primitives},
+                                        {"bounds",
+                                         {{"lo_mm", {r.bounds.lo.x, r.bounds.lo.y, r.bounds.lo.z}},
+                                          {"hi_mm", {r.bounds.hi.x, r.bounds.hi.y, r.bounds.hi.z}},
+                                          {"size_mm", {size.x, size.y, size.z}}}},
+                                        {"checks",
+                                         {{"printer", printer.name},
+                                          {"intersection_tolerance_mm", r.intersection_tolerance_mm},
+                                          {"closed", r.closed()},
+                                          {"open_edges", r.open_edges},
+                                          {"nonmanifold_edges", r.nonmanifold_edges},
+                                          {"misoriented_edges", r.misoriented_edges},
+                                          {"duplicate_triangles", r.duplicate_triangles},
+                                          {"self_intersections", r.self_intersections},
+                                          {"intersections_cut_short", r.intersections_cut_short},
+                                          {"passed", r.passed},
+                                          {"problems", r.problems}}}};
+    fmt::print("{}\n", doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace));
+    return;
+  }
+  fmt::print("{}: {}, {} triangles, {} vertices\n", r.source, r.format, r.triangles, r.vertices);
+  if (r.dropped_degenerate > 0 || r.ignored_primitives > 0)
+    fmt::print("note: {} triangles that repeat a vertex dropped, {} points and lines ignored\n", r.dropped_degenerate,
+               r.ignored_primitives);
+  fmt::print("bounds: {}, {}, {} mm; size {:.6g} x {:.6g} x {:.6g} mm\n", range_text("x", r.bounds.lo.x, r.bounds.hi.x),
+             range_text("y", r.bounds.lo.y, r.bounds.hi.y), range_text("z", r.bounds.lo.z, r.bounds.hi.z), size.x,
+             size.y, size.z);
+  const auto count = [](std::size_t n) { return n == 0 ? std::string("none") : std::to_string(n); };
+  fmt::print("closed: {} (open edges: {}, non-manifold edges: {})\n", r.closed() ? "yes" : "no", count(r.open_edges),
+             count(r.nonmanifold_edges));
+  fmt::print("consistently oriented: {} (edges run the same way by both triangles: {})\n",
+             r.misoriented_edges == 0 ? "yes" : "no", count(r.misoriented_edges));
+  fmt::print("duplicate triangles: {}\n", count(r.duplicate_triangles));
+  fmt::print("self-intersections: {}{} (longer than {:.4g} mm, the finest pitch of printer {})\n",
+             r.intersections_cut_short ? "at least " : "", count(r.self_intersections), r.intersection_tolerance_mm,
+             printer.name);
+  if (r.passed)
+    fmt::print("passes: a shell {{\"mesh\": ...}} trims by it with the even-odd rule (the default)\n");
+  else
+    fmt::print(
+        "fails: {}. As a shell it trims only with \"inside_rule\": \"winding-number\" (docs/SCENE.md, \"Mesh "
+        "trims\")\n",
+        r.problems);
+}
+
 void run_info(const InfoOptions& options) {
   // A scene (JSON) gets the scene summary and the job estimate; models get their patches.
   std::string ext = std::filesystem::path(options.model_path).extension().string();
@@ -185,6 +248,10 @@ void run_info(const InfoOptions& options) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json") {
     print_scene_info(options.model_path);
+    return;
+  }
+  if (is_triangle_mesh_extension(ext)) {
+    print_mesh_info(options);
     return;
   }
   const Model model = read_model(options.model_path, stop_on_signals());
@@ -212,8 +279,14 @@ void add_info_command(CLI::App& app) {
   CLI::App* cmd =
       app.add_subcommand("info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
   cmd->add_option("model", options->model_path,
-                  "Model file: IRIT .itd, G+Smo .xml or GoTools .g2; or a scene (.json) for a job estimate")
+                  "Model file: IRIT .itd, G+Smo .xml or GoTools .g2; a triangle mesh (.stl, .obj, .ply, .3mf) for "
+                  "its box and the checks of a mesh trim; or a scene (.json) for a job estimate")
       ->required();
+  cmd->add_option("--printer", options->printer,
+                  fmt::format("For a mesh: the printer whose finest pitch self-intersections are judged at ({})",
+                              fmt::join(builtin_printer_profile_names(), ", ")))
+      ->check(CLI::IsMember(builtin_printer_profile_names()))
+      ->capture_default_str();
   cmd->add_flag("--json", options->json, "Print one JSON document instead of text");
   cmd->add_option("--jacobian-samples", options->jacobian.samples_per_direction,
                   "Grid points per direction (domain ends included) for the Jacobian check")

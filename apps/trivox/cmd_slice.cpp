@@ -69,22 +69,31 @@ class TerminalProgress final : public ProgressSink {
 
 // The summary after a job: what it sliced, the counts, the printed extent, and notes on a
 // resumed, sharded, padded or short stack.
-void print_summary(const JobOptions& o, const SliceJob& slice_job, const Scene& scene, const SliceLayout& L,
-                   const JobStats& st) {
+void print_summary(const JobOptions& o, const SliceJob& slice_job, const Slicer& slicer, const JobStats& st) {
+  const SliceLayout& L = slicer.layout();
   const JobParams& job = slice_job.params().job;
   const std::int64_t inside = st.total.pixels_inside, global = st.total.global_calls;
-  fmt::print("sliced {} layers ({} x {} px) into {} in {:.2f} s with {}\n", st.layers.size(), L.width_px, L.height_px,
-             o.output, st.seconds, thread_text(st.threads));
+  // The model's layers this job covers, numbered from 1 as --layers numbers them, when the
+  // job is not the whole model (the layer files number the stack from 1: CLI.md).
+  const int last_layer = job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1);
+  std::string range;
+  if (job.first_layer == last_layer)
+    range = fmt::format(", layer {} of the model's {}", last_layer + 1, L.num_layers);
+  else if (job.first_layer > 0 || last_layer < L.num_layers - 1)
+    range = fmt::format(", layers {} to {} of the model's {}", job.first_layer + 1, last_layer + 1, L.num_layers);
+  fmt::print("sliced {} layer{} ({} x {} px{}) into {} in {:.2f} s with {}\n", st.layers.size(),
+             st.layers.size() == 1 ? "" : "s", L.width_px, L.height_px, range, o.output, st.seconds,
+             thread_text(st.threads));
   fmt::print("voxels inside: {}, global solves: {} ({:.4f}% of inside voxels)\n", inside, global,
              global_share_percent(st.total));
   if (!st.printed.empty()) {
     // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
-    const Vec3 printed = printed_box_mm(st.printed, L).size(), model = scene.bounds().size();
+    const Vec3 printed = printed_box_mm(st.printed, L).size(), model = slicer.object_bounds().size();
     fmt::print(
-        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
+        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers); model: {:.2f} x {:.2f} x {:.2f} mm\n",
         printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
-        st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1,
-        st.layers_kept > 0 ? ", of the layers this run sliced" : "", model.x, model.y, model.z);
+        st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1, model.x, model.y,
+        model.z);
   }
   if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
   if (job.shard_count > 1)
@@ -94,8 +103,7 @@ void print_summary(const JobOptions& o, const SliceJob& slice_job, const Scene& 
     fmt::print("padded with {} empty layers to reach {} layers{}\n", st.padded_layers, min_layers_of(job),
                job.min_layers ? "" : ", as Voxel Print needs");
   // A stack shorter than GrabCAD Voxel Print takes is only written when asked for; say so.
-  const int model_layers =
-      (job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1)) - job.first_layer + 1;
+  const int model_layers = last_layer - job.first_layer + 1;
   const int stack_layers = model_layers + st.padded_layers;
   const bool voxel_print = std::any_of(job.formats.begin(), job.formats.end(),
                                        [](const std::string& f) { return layer_writer_feeds_voxel_print(f); });
@@ -194,11 +202,14 @@ void run(const SliceOptions& so) {
                slice_job.manifest_path().string());
     throw;
   }
-  if (st.interrupted)
-    throw InterruptedError(
+  if (st.interrupted) {
+    std::string message =
         fmt::format("stopped after {} layers; {} is marked interrupted; continue with the same command and --resume",
-                    st.layers.size(), slice_job.manifest_path().string()));
-  print_summary(o, slice_job, scene, slicer.layout(), st);
+                    st.layers.size(), slice_job.manifest_path().string());
+    if (const std::string note = stack_resume_note(slice_job.params().job); !note.empty()) message += " (" + note + ")";
+    throw InterruptedError(message);
+  }
+  print_summary(o, slice_job, slicer, st);
   slice_job.check_result(st);
 }
 

@@ -116,3 +116,6 @@ def test_stats_dicts_name_what_the_library_lists(tmp_path):
     stats = json.loads((tmp_path / "out" / "stats.json").read_text())
     assert sorted(stats["layers"][0]) == sorted(names)
     assert {n: stats["total"][n] for n in counts} == result.total
+    # Python's layer is the 0-based index; stats.json numbers layers from 1 (CLI.md).
+    assert [layer["layer"] + 1 for layer in result.layers] == [layer["layer"] for layer in stats["layers"]]
+    assert result.layers[0]["layer"] == JOB["layers"][0]

@@ -312,6 +312,7 @@ void JobRun::open_folder() {
                       manifest_path_.string(), fmt::join(diffs, "; ")));
     remove_stale_temporaries(params_.output_dir);
     manifest_.files = std::move(intact);
+    manifest_.printed = detail::printed_of_kept_layers(previous, manifest_.files);
   }
   const int total = range_.total();
   kept_.assign(static_cast<std::size_t>(total), 0);
@@ -319,6 +320,7 @@ void JobRun::open_folder() {
   for (int index = 0; index < total; ++index)
     if (shard_has_layer(index, params_.shard_index, params_.shard_count) && !kept_[static_cast<std::size_t>(index)])
       pending_.push_back(index);
+  for (const ManifestPrinted& p : manifest_.printed) stats_.printed.add(printed_extent(p, range_.first + p.layer - 1));
   stats_.layout = slicer_.layout();
   stats_.padded_layers = range_.padded;
   stats_.layers_kept = static_cast<int>(std::count(kept_.begin(), kept_.end(), 1));
@@ -401,6 +403,8 @@ void JobRun::record(int index, std::vector<std::string> written, std::optional<L
   stats_.files.insert(stats_.files.end(), written.begin(), written.end());
   if (layer_stats) stats_.layers.push_back(std::move(*layer_stats));
   stats_.printed.add(printed);
+  if (!printed.empty())
+    manifest_.printed.push_back({index + 1, printed.col_lo, printed.col_hi, printed.row_lo, printed.row_hi});
   const auto now = std::chrono::steady_clock::now();
   if (std::chrono::duration<double>(now - last_manifest_write_).count() >= params_.manifest_interval_seconds) {
     manifest_.sort_files();
@@ -470,6 +474,7 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
   } else {
     manifest_.status = JobStatus::kInterrupted;
     manifest_.message = fmt::format("stopped after {} of {} layers; continue with --resume", done_, pending_.size());
+    if (const std::string note = stack_resume_note(params_); !note.empty()) manifest_.message += "; " + note;
   }
   write_manifest(manifest_path_, manifest_);
   manifest_written_ = true;

@@ -223,6 +223,7 @@ JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<boo
     if (index == 1) {
       merged = m;
       merged.files.clear();
+      merged.printed.clear();
       owner.assign(static_cast<std::size_t>(m.total_layers), 0);
     } else if (const auto diffs = manifest_differences(merged, m); !diffs.empty()) {
       throw Error(fmt::format("{}: not the same job as shard 1: {}", path.string(), fmt::join(diffs, "; ")));
@@ -249,6 +250,9 @@ JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<boo
         throw Error(fmt::format("cannot merge: {}", problem));
       merged.files.push_back(f);
     }
+    // Each layer's extent comes from the shard that owns it (every shard lists only its own).
+    for (const ManifestPrinted& p : m.printed)
+      if (owner[static_cast<std::size_t>(p.layer - 1)] == index) merged.printed.push_back(p);
   }
   for (std::size_t layer = 0; layer < owner.size(); ++layer)
     if (owner[layer] == 0) throw Error(fmt::format("{}: no shard has layer {}", dir.string(), layer + 1));

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "trivox/error.h"
 #include "trivox/output/display_colours.h"
@@ -186,4 +187,21 @@ std::string cells_boundary_stl(const Scene& scene) {
 }
 
 }  // namespace detail
+
+std::string stack_resume_note(const JobParams& params) {
+  std::vector<std::string> stacks, layered;
+  for (const std::string& f : params.formats) (is_stack_format(f) ? stacks : layered).push_back(f);
+  if (!params.preview_layers.empty()) stacks.push_back("the previews of --preview");
+  if (stacks.empty()) return {};
+  if (layered.empty())
+    return fmt::format(
+        "{} {} written only when the job completes and {} no finished layer, so --resume slices "
+        "every layer again",
+        fmt::join(stacks, " and "), stacks.size() == 1 ? "is" : "are", stacks.size() == 1 ? "keeps" : "keep");
+  return fmt::format(
+      "--resume keeps the finished layers of {} and slices them once more for {}, written only when "
+      "the job completes",
+      fmt::join(layered, " and "), fmt::join(stacks, " and "));
+}
+
 }  // namespace trivox

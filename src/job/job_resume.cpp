@@ -45,6 +45,15 @@ std::vector<int> layers_of(const std::vector<ManifestFile>& files) {
   return layers;
 }
 
+std::vector<ManifestPrinted> printed_of_kept_layers(const JobManifest& previous,
+                                                    const std::vector<ManifestFile>& kept) {
+  const std::vector<int> layers = layers_of(kept);
+  std::vector<ManifestPrinted> out;
+  for (const ManifestPrinted& p : previous.printed)
+    if (std::binary_search(layers.begin(), layers.end(), p.layer)) out.push_back(p);
+  return out;
+}
+
 std::optional<LayerResult> slice_layer_unless_failed(const Slicer& slicer, int layer, std::atomic<bool>& failed) {
   if (failed.load()) return std::nullopt;
   try {

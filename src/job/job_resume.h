@@ -19,6 +19,10 @@ std::optional<ManifestSceneParts> scene_parts(const Scene& scene, const SliceLay
 // The job layers (1-based) that `files` hold, sorted, once each.
 std::vector<int> layers_of(const std::vector<ManifestFile>& files);
 
+// The printed extents `previous` recorded for the layers `kept` holds files of: what a resumed
+// job keeps of them, so that it reports the whole job's printed extent.
+std::vector<ManifestPrinted> printed_of_kept_layers(const JobManifest& previous, const std::vector<ManifestFile>& kept);
+
 // slicer.slice_layer(layer), unless `failed` is set (another worker met an error: nullopt).
 // A FractionError is rethrown with the layer named (1-based model layer and its height), and
 // any error sets `failed`, so that the job's other workers start no new layer.

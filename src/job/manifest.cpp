@@ -43,6 +43,8 @@ void JobManifest::sort_files() {
   std::sort(files.begin(), files.end(), [](const ManifestFile& a, const ManifestFile& b) {
     return std::tie(a.layer, a.name) < std::tie(b.layer, b.name);
   });
+  std::sort(printed.begin(), printed.end(),
+            [](const ManifestPrinted& a, const ManifestPrinted& b) { return a.layer < b.layer; });
 }
 
 std::string manifest_file_name(int shard_index, int shard_count) {
@@ -94,7 +96,21 @@ std::string manifest_text(const JobManifest& m) {
     text += i == 0 ? "\n    " : ",\n    ";
     text += entry.dump();
   }
-  text += m.files.empty() ? "]\n}\n" : "\n  ]\n}\n";
+  text += m.files.empty() ? "]" : "\n  ]";
+  // Then one line per layer with a material: its printed extent in pixels.
+  if (!m.printed.empty()) {
+    text += ",\n  \"printed\": [";
+    for (std::size_t i = 0; i < m.printed.size(); ++i) {
+      const ManifestPrinted& p = m.printed[i];
+      const Json entry = {{"layer", p.layer},
+                          {"columns", Json::array({p.col_lo, p.col_hi})},
+                          {"rows", Json::array({p.row_lo, p.row_hi})}};
+      text += i == 0 ? "\n    " : ",\n    ";
+      text += entry.dump();
+    }
+    text += "\n  ]";
+  }
+  text += "\n}\n";
   return text;
 }
 
@@ -213,6 +229,32 @@ JobManifest parse_manifest(std::string_view text, const std::string& source) {
         static_cast<std::uint64_t>(r.integer(files[i], "bytes", where, 0, std::numeric_limits<std::int64_t>::max()));
     f.sha256 = r.str(files[i], "sha256", where);
     m.files.push_back(std::move(f));
+  }
+  if (doc.contains("printed")) {
+    const Json& printed = r.at(doc, "printed", "");
+    if (!printed.is_array()) r.fail("/printed", "must be an array");
+    if (printed.size() > static_cast<std::size_t>(m.total_layers))
+      r.fail("/printed", fmt::format("lists {} layers, the job has {}", printed.size(), m.total_layers));
+    std::vector<char> seen(static_cast<std::size_t>(m.total_layers), 0);
+    for (std::size_t i = 0; i < printed.size(); ++i) {
+      const std::string where = fmt::format("/printed/{}", i);
+      ManifestPrinted p;
+      p.layer = static_cast<int>(r.integer(printed[i], "layer", where, 1, m.total_layers));
+      if (seen[static_cast<std::size_t>(p.layer - 1)]++)
+        r.fail(where + "/layer", fmt::format("layer {} is listed twice", p.layer));
+      const auto range = [&](const char* key, int& lo, int& hi) {
+        const Json& v = r.at(printed[i], key, where);
+        if (!v.is_array() || v.size() != 2 || !v[0].is_number_integer() || !v[1].is_number_integer() ||
+            v[0].get<std::int64_t>() < 0 || v[0].get<std::int64_t>() > v[1].get<std::int64_t>() ||
+            v[1].get<std::int64_t>() > std::numeric_limits<int>::max())
+          r.fail(where + "/" + key, "must be two integers, 0 <= first <= last");
+        lo = v[0].get<int>();
+        hi = v[1].get<int>();
+      };
+      range("columns", p.col_lo, p.col_hi);
+      range("rows", p.row_lo, p.row_hi);
+      m.printed.push_back(p);
+    }
   }
   m.sort_files();
   return m;

@@ -44,6 +44,13 @@ PrintedExtent printed_extent(const LabelImage& labels, int layer) {
   return e;
 }
 
+PrintedExtent printed_extent(const ManifestPrinted& recorded, int layer) {
+  PrintedExtent e;
+  e.col_lo = recorded.col_lo, e.col_hi = recorded.col_hi, e.row_lo = recorded.row_lo, e.row_hi = recorded.row_hi;
+  e.layer_lo = e.layer_hi = layer;
+  return e;
+}
+
 Box3 printed_box_mm(const PrintedExtent& e, const SliceLayout& L) {
   if (e.empty()) return {};
   Box3 box;

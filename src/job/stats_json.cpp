@@ -34,7 +34,7 @@ json extent_json(const Slicer& slicer, const JobStats& stats) {
     printed["voxels"] = {stats.printed.col_hi - stats.printed.col_lo + 1,
                          stats.printed.row_hi - stats.printed.row_lo + 1,
                          stats.printed.layer_hi - stats.printed.layer_lo + 1};
-  return {{"printed", printed}, {"model", box_json(slicer.scene().bounds())}};
+  return {{"printed", printed}, {"model", box_json(slicer.object_bounds())}};
 }
 
 }  // namespace
@@ -46,6 +46,10 @@ void write_stats_json(const std::filesystem::path& path, const Slicer& slicer, c
   for (const LayerStats& s : stats.layers) {
     json layer = json::object();
     put_stats(layer, s, LayerStatsPart::kLayer);
+    // Layers are numbered for a person here, from 1 at the model's bottom, as --layers,
+    // --preview and the summary number them (CLI.md, "Layer numbers"); LayerStats::layer and
+    // Python's stats keep the 0-based index.
+    layer["layer"] = s.layer + 1;
     layers.push_back(std::move(layer));
   }
   json materials = json::array();

@@ -37,50 +37,6 @@ const TriangleMeshFile& SceneContext::triangle_mesh(const JsonView& file_field) 
 
 namespace {
 
-// "the 18th triangle (corners (x, y, z), ...)": 1-based among the triangles read, with its
-// corners in the file's coordinates, which name it whatever a viewer numbers.
-std::string describe_triangle(const TriangleMeshFile& f, int t) {
-  const auto& tri = f.triangles[static_cast<std::size_t>(t)];
-  const Vec3 &a = f.vertices[static_cast<std::size_t>(tri[0])], &b = f.vertices[static_cast<std::size_t>(tri[1])],
-             &c = f.vertices[static_cast<std::size_t>(tri[2])];
-  return fmt::format(
-      "triangle {} of the file, corners ({:.7g}, {:.7g}, {:.7g}), ({:.7g}, {:.7g}, {:.7g}), ({:.7g}, "
-      "{:.7g}, {:.7g})",
-      t + 1, a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z);
-}
-
-std::string mesh_report(const TriangleMeshFile& f, const MeshCheck& c, double tolerance_mm) {
-  std::vector<std::string> parts;
-  if (c.open_edges.count > 0)
-    parts.push_back(fmt::format("not closed: {} open edges, each on one triangle only (e.g. {})", c.open_edges.count,
-                                describe_triangle(f, c.open_edges.triangle)));
-  if (c.nonmanifold_edges.count > 0)
-    parts.push_back(fmt::format("not closed: {} non-manifold edges, each on three or more triangles (e.g. {})",
-                                c.nonmanifold_edges.count, describe_triangle(f, c.nonmanifold_edges.triangle)));
-  if (c.misoriented_edges.count > 0)
-    parts.push_back(
-        fmt::format("not consistently oriented: {} edges whose two triangles run along them the same "
-                    "way, a flipped triangle on one side (e.g. {})",
-                    c.misoriented_edges.count, describe_triangle(f, c.misoriented_edges.triangle)));
-  if (c.duplicate_triangles.count > 0)
-    parts.push_back(fmt::format("doubled: {} triangles repeat the corners of an earlier one (e.g. {}, a repeat of {})",
-                                c.duplicate_triangles.count, describe_triangle(f, c.duplicate_triangles.triangle),
-                                describe_triangle(f, c.duplicate_triangles.other)));
-  if (c.intersections_cut_short && c.self_intersections.count == 0)
-    parts.push_back(
-        "too crowded to check for self-intersections in bounded time: more pairs of triangles lie close together "
-        "than the check looks at (layers of coincident faces, or a fan of many slivers)");
-  if (c.self_intersections.count > 0)
-    parts.push_back(fmt::format(
-        "self-intersecting: {}{} pairs of triangles cross or overlap by more than {:.4g} mm, "
-        "the printer's pixel (e.g. {} and {})",
-        c.intersections_cut_short ? "at least " : "", c.self_intersections.count, tolerance_mm,
-        describe_triangle(f, c.self_intersections.triangle), describe_triangle(f, c.self_intersections.other)));
-  std::string all;
-  for (std::size_t i = 0; i < parts.size(); ++i) all += fmt::format("{}{}", i == 0 ? "" : "; ", parts[i]);
-  return all;
-}
-
 // The placed mesh's coordinates overflow, or lie so far out that doubles there are spaced more
 // than a thousandth of a pixel apart (the rule refuse_without_interior applies to volumes):
 // its triangles would collapse or cross by rounding, so the mesh is refused as what it is,
@@ -103,6 +59,45 @@ void refuse_imprecise(const std::vector<Vec3>& vertices, const JsonView& file, d
 }
 
 }  // namespace
+
+bool is_bounding_box_geometry(const JsonView& node) { return node.is_object() && node.find("bounding_box"); }
+
+Volume parse_bounding_box_geometry(const JsonView& node, SceneContext& ctx) {
+  node.expect_object({"bounding_box"});
+  const JsonView box = node.at("bounding_box");
+  box.expect_object({"mesh", "placement", "margin_mm"});
+  const JsonView file = box.at("mesh");
+  const TriangleMeshFile& f = ctx.triangle_mesh(file);
+  std::vector<Vec3> vertices = f.vertices;
+  if (const auto p = box.find("placement")) vertices = parse_and_apply_placement(*p, std::move(vertices));
+  refuse_imprecise(vertices, file, ctx.pixel_mm());
+  double margin = 0;
+  if (const auto m = box.find("margin_mm")) {
+    margin = m->number();
+    if (!(margin >= 0) || !std::isfinite(margin)) m->fail(fmt::format("expected a margin >= 0 mm, got {}", margin));
+  }
+  Box3 bounds;
+  for (const Vec3& v : vertices) bounds.expand(v);
+  const Vec3 lo = bounds.lo - Vec3{margin, margin, margin}, hi = bounds.hi + Vec3{margin, margin, margin};
+  if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z))
+    file.fail(
+        fmt::format("the mesh \"{}\" is flat ({:.6g} x {:.6g} x {:.6g} mm where it is placed): a box around "
+                    "it has no interior; give a \"margin_mm\"",
+                    file.string(), hi.x - lo.x, hi.y - lo.y, hi.z - lo.z));
+  if (!std::isfinite(hi.x - lo.x) || !std::isfinite(hi.y - lo.y) || !std::isfinite(hi.z - lo.z))
+    box.at("margin_mm").fail("the box around the mesh overflows");
+  // Corners u fastest, then v, then w: u, v and w run along x, y and z.
+  std::vector<double> points;
+  for (int k = 0; k < 2; ++k)
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i) {
+        points.push_back(i == 0 ? lo.x : hi.x);
+        points.push_back(j == 0 ? lo.y : hi.y);
+        points.push_back(k == 0 ? lo.z : hi.z);
+      }
+  const KnotVector knots(2, {0, 0, 1, 1});
+  return Volume(TensorSpline({knots, knots, knots}, 3, std::move(points)));
+}
 
 std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneContext& ctx, std::string_view what) {
   node.expect_object({"mesh", "placement", "inside_rule"});
@@ -136,7 +131,7 @@ std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneCon
           fmt::format("the mesh \"{}\" ({}, {} triangles) is {}. Give the shell \"inside_rule\": "
                       "\"winding-number\" to decide inside by the generalized winding number, which "
                       "tolerates gaps, flipped triangles and parts that overlap",
-                      file.string(), f.format, f.triangles.size(), mesh_report(f, check, ctx.pixel_mm())));
+                      file.string(), f.format, f.triangles.size(), mesh_check_report(f, check, ctx.pixel_mm())));
   }
   auto shell = std::make_shared<TrimShell>();
   shell->name = fmt::format("\"{}\"", file.string());

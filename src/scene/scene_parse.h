@@ -25,6 +25,10 @@
 #include "trivox/spline/tensor_spline.h"
 #include "trivox/spline/volume.h"
 
+namespace trivox {
+struct MeshCheck;
+}
+
 namespace trivox::detail {
 
 // Parses JSON text, rejecting keys repeated in one object; syntax errors are InputErrors with
@@ -150,6 +154,16 @@ std::vector<Vec3> parse_and_apply_placement(const JsonView& node, std::vector<Ve
 // file read, placed and, for the even-odd rule, checked (trivox/mesh/detail/mesh_check.h). `what`
 // is "model-space" or "parametric" (which a mesh cannot be).
 std::shared_ptr<const TrimShell> parse_mesh_shell(const JsonView& node, SceneContext& ctx, std::string_view what);
+
+// The failed checks of a mesh (check_mesh), each with an example triangle in the file's
+// coordinates: the words a refused mesh trim and `trivox info` give (mesh_file_report.cpp).
+std::string mesh_check_report(const TriangleMeshFile& file, const MeshCheck& check, double tolerance_mm);
+
+// Geometry {"bounding_box": {"mesh": F, "placement", "margin_mm"}} (mesh_trim_parse.cpp): the
+// trilinear box, u, v, w along x, y, z, around the placed mesh's vertices widened by the
+// margin, the volume a mesh trim cuts its part out of.
+bool is_bounding_box_geometry(const JsonView& node);
+Volume parse_bounding_box_geometry(const JsonView& node, SceneContext& ctx);
 
 // A cell's "trim" clauses. `own_volume` is the index of the cell's scene volume (-1: none),
 // which a clause may not name.

@@ -383,8 +383,7 @@ Scene parse_scene(std::string_view json_text, const std::filesystem::path& sourc
   detail::SceneContext ctx(src, source.parent_path());
   ctx.set_stop(options.stop);
   ctx.set_construction_cache(options.construction_cache);
-  ctx.set_pixel_mm(
-      std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm}));
+  ctx.set_pixel_mm(scene.printer.finest_pitch_mm());
   std::vector<std::string> names;
   for (const MaterialDef& m : scene.materials) names.push_back(m.name);
   ctx.set_material_names(std::move(names));

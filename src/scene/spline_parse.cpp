@@ -150,6 +150,10 @@ std::vector<GeometryPart> parse_geometry(const JsonView& node, SceneContext& ctx
     parts.push_back({parse_constructed_geometry(node, ctx), ""});
     return parts;
   }
+  if (is_bounding_box_geometry(node)) {
+    parts.push_back({parse_bounding_box_geometry(node, ctx), ""});
+    return parts;
+  }
   if (!node.find("file")) {
     parts.push_back({make_volume(node, parse_inline_spline(node, 3, 3), "the inline volume"), ""});
     return parts;

@@ -68,6 +68,7 @@ Slicer::Slicer(const Scene& scene, SliceParams params) : impl_(std::make_unique<
 Slicer::~Slicer() = default;
 
 const SliceLayout& Slicer::layout() const noexcept { return impl_->layout; }
+const Box3& Slicer::object_bounds() const noexcept { return impl_->object_bounds; }
 const SliceParams& Slicer::params() const noexcept { return impl_->params; }
 const Scene& Slicer::scene() const noexcept { return impl_->scene; }
 const DitherParams& Slicer::dither_params() const noexcept { return impl_->dither; }
@@ -86,8 +87,7 @@ Slicer::Impl::Impl(const Scene& scene_in, SliceParams params_in) : scene(scene_i
   // An eighth of the finest pitch: the band of candidates the outline cannot decide, and so
   // the global solves that prove its pixels outside, halve with the tolerance, while the
   // outline meshes grow little (measured in docs/PERFORMANCE.md).
-  const double finest_pitch_mm =
-      std::min({scene.printer.pitch_x_mm(), scene.printer.pitch_y_mm(), scene.printer.layer_thickness_mm});
+  const double finest_pitch_mm = scene.printer.finest_pitch_mm();
   outline_tolerance_mm = params.outline_tolerance_mm.value_or(0.125 * finest_pitch_mm);
   check_model_fits(finest_pitch_mm);
   // Model-space shells decide pixels by their tessellation alone: half the outline
@@ -128,14 +128,57 @@ void Slicer::Impl::check_model_fits(double finest_pitch_mm) const {
                     scene.source, far, resolution, finest_pitch_mm));
 }
 
-// The frame and the layers come from the cells' volumes alone: the tight box of each image
-// (GlobalSolver::image_bounds), never from an approximation of it, widened by a quarter of
-// the finest pitch. A setting such as the outline tolerance cannot move them.
+namespace {
+
+// A box that holds every point a model-space "inside" clause keeps, or nullopt when the
+// clause does not bound its cell that way (an "outside" clause, a parametric trim): the box
+// of a mesh's vertices, the control points' box of a shell's surfaces (their convex hulls
+// hold them and what they enclose), the tight image of a trimming volume.
+std::optional<Box3> clause_box(const detail::LayerDecision& decision, const detail::LayerDecision::Clause& k) {
+  if (k.side != TrimSide::kInside) return std::nullopt;
+  if (k.kind == TrimKind::kVolume) return decision.trivariates()[static_cast<std::size_t>(k.trivariate)]->image;
+  if (k.kind != TrimKind::kShell || k.source == nullptr || !k.source->shell) return std::nullopt;
+  const TrimShell& shell = *k.source->shell;
+  if (shell.mesh) return shell.mesh->bounds();
+  Box3 box;
+  for (const TensorSpline& s : shell.surfaces) box.expand(s.control_box());
+  for (const TrimmedSurface& t : shell.trimmed) box.expand(t.surface.control_box());
+  return box;
+}
+
+Box3 intersection(const Box3& a, const Box3& b) {
+  Box3 out{{std::max(a.lo.x, b.lo.x), std::max(a.lo.y, b.lo.y), std::max(a.lo.z, b.lo.z)},
+           {std::min(a.hi.x, b.hi.x), std::min(a.hi.y, b.hi.y), std::min(a.hi.z, b.hi.z)}};
+  return out.lo.x <= out.hi.x && out.lo.y <= out.hi.y && out.lo.z <= out.hi.z ? out : Box3{};
+}
+
+}  // namespace
+
+// The object's box: per cell, the tight box of its volume's image (GlobalSolver::image_bounds),
+// never an approximation of it, cut down to the boxes of the model-space trims it must lie
+// inside (a bunny mesh in a box keeps the bunny's box); the union over the cells. When the
+// cut leaves nothing (no cell's volume meets its trims), or without SliceParams::
+// frame_from_trims, the volumes' boxes alone.
+Box3 Slicer::Impl::tight_object_bounds() const {
+  Box3 untrimmed, trimmed;
+  for (const auto& cd : decision->cells()) {
+    const Box3& image = decision->trivariates()[static_cast<std::size_t>(cd->trivariate)]->image;
+    untrimmed.expand(image);
+    Box3 box = image;
+    if (params.frame_from_trims)
+      for (const auto& k : cd->clauses)
+        if (const auto bound = clause_box(*decision, k); bound && !box.empty()) box = intersection(box, *bound);
+    trimmed.expand(box);
+  }
+  return trimmed.empty() ? untrimmed : trimmed;
+}
+
+// The frame and the layers come from the object's box (tight_object_bounds), widened by a
+// quarter of the finest pitch. A setting such as the outline tolerance cannot move them.
 void Slicer::Impl::lay_out(double finest_pitch_mm) {
   decision->bound_images(1e-3 * finest_pitch_mm);
-  Box3 bounds;
-  for (const auto& cd : decision->cells())
-    bounds.expand(decision->trivariates()[static_cast<std::size_t>(cd->trivariate)]->image);
+  object_bounds = tight_object_bounds();
+  Box3 bounds = object_bounds;
   const double margin_mm = 0.25 * finest_pitch_mm;
   // A masked-resin printer builds from its platform: the first layer starts at the model's
   // bottom, as slicers for these printers lay it.

@@ -50,6 +50,7 @@ struct Slicer::Impl {
   Impl(const Scene& scene, SliceParams params);
 
   void check_model_fits(double finest_pitch_mm) const;
+  Box3 tight_object_bounds() const;
   void lay_out(double finest_pitch_mm);
   void build_meshes();
   std::unique_ptr<LayerBuffers> take_buffers() const;
@@ -65,6 +66,7 @@ struct Slicer::Impl {
   DitherParams dither;
   double outline_tolerance_mm = 0;
   SliceLayout layout;
+  Box3 object_bounds;  // what the layout frames (Slicer::object_bounds)
   // The trivariates, the cells and their trims, prepared for the pixel grid (layer_decision.h).
   std::unique_ptr<detail::LayerDecision> decision;
   // The layers' material grids and inside masks, reused by the layers that follow: at

@@ -79,6 +79,9 @@ TEST(CliEmptyResult, AStackWithoutAVoxelOfTheObjectEndsWithExitSixAfterWritingIt
             std::string::npos)
       << r.err;
   EXPECT_NE(r.out.find("voxels inside: 0,"), std::string::npos) << r.out;
+  // The summary names the model's layers the job covers, numbered as --layers numbers them.
+  EXPECT_NE(r.out.find("sliced 3 layers (95 x 18 px, layers 1 to 3 of the model's 149) into"), std::string::npos)
+      << r.out;
   // The files are whole and listed: the job itself is complete.
   EXPECT_EQ(nlohmann::json::parse(read_text(out / "manifest.json")).at("status"), "complete");
   EXPECT_EQ(run_cli("verify " + shell_quote(out)).exit_code, 0);

@@ -9,6 +9,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -20,6 +21,7 @@
 #include "trivox/job/job.h"
 #include "trivox/job/job_folder.h"
 #include "trivox/job/manifest.h"
+#include "trivox/job/printed_extent.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/png_io.h"
 
@@ -65,11 +67,12 @@ class JobResume : public ::testing::Test {
     scene_ = new Scene(small_scene());
     slicer_ = new Slicer(*scene_, {});
     reference_dir_ = new fs::path(fresh_dir("reference"));
-    run_slice_job(*slicer_, params_for(*reference_dir_, 2));
+    reference_printed_ = new PrintedExtent(run_slice_job(*slicer_, params_for(*reference_dir_, 2)).printed);
     reference_ = new std::map<std::string, std::string>(folder_bytes(*reference_dir_));
   }
   static void TearDownTestSuite() {
     delete reference_;
+    delete reference_printed_;
     fs::remove_all(*reference_dir_);
     delete reference_dir_;
     delete slicer_;
@@ -79,11 +82,20 @@ class JobResume : public ::testing::Test {
   static Slicer* slicer_;
   static fs::path* reference_dir_;
   static std::map<std::string, std::string>* reference_;
+  static PrintedExtent* reference_printed_;
 };
 Scene* JobResume::scene_ = nullptr;
 Slicer* JobResume::slicer_ = nullptr;
 fs::path* JobResume::reference_dir_ = nullptr;
 std::map<std::string, std::string>* JobResume::reference_ = nullptr;
+PrintedExtent* JobResume::reference_printed_ = nullptr;
+
+void expect_same_extent(const PrintedExtent& a, const PrintedExtent& b, const std::string& what) {
+  EXPECT_EQ(std::tie(a.col_lo, a.col_hi, a.row_lo, a.row_hi, a.layer_lo, a.layer_hi),
+            std::tie(b.col_lo, b.col_hi, b.row_lo, b.row_hi, b.layer_lo, b.layer_hi))
+      << what << ": columns " << a.col_lo << "-" << a.col_hi << " / " << b.col_lo << "-" << b.col_hi << ", layers "
+      << a.layer_lo << "-" << a.layer_hi << " / " << b.layer_lo << "-" << b.layer_hi;
+}
 
 TEST_F(JobResume, ManifestListsEveryFileWithItsSizeAndHash) {
   const JobManifest m = read_manifest(*reference_dir_ / "manifest.json");
@@ -142,6 +154,63 @@ TEST_F(JobResume, VerifyStopsAtItsStopFlag) {
   EXPECT_TRUE(verify_output(*reference_dir_, &stop).ok());
 }
 
+// The manifest keeps each layer's printed extent (only layers with a material), so that a
+// resumed job reports the whole job's; a damaged list is refused with its field named.
+TEST_F(JobResume, TheManifestKeepsEachLayersPrintedExtent) {
+  const JobManifest m = read_manifest(*reference_dir_ / "manifest.json");
+  ASSERT_EQ(m.printed.size(), 15u);  // the 15 model layers; the padding layers are empty
+  PrintedExtent whole;
+  for (const ManifestPrinted& p : m.printed) {
+    EXPECT_LE(p.col_lo, p.col_hi);
+    whole.add(printed_extent(p, p.layer - 1));
+  }
+  expect_same_extent(whole, *reference_printed_, "the manifest's layers");
+  const std::string text = manifest_text(m);
+  for (const auto& [from, to, rule] :
+       {std::tuple<std::string, std::string, std::string>{"\"columns\":[", "\"columns\":[-4,", "/printed/0/columns"},
+        {"\"rows\":[", "\"rows\":[9999,1,", "/printed/0/rows"},
+        {"{\"layer\":2,\"columns", "{\"layer\":1,\"columns", "listed twice"},
+        {"{\"layer\":1,\"columns", "{\"layer\":31,\"columns", "/printed/0/layer"}}) {
+    std::string bad = text;
+    const std::size_t at = bad.find(from, bad.find("\"printed\""));
+    ASSERT_NE(at, std::string::npos) << from;
+    bad.replace(at, from.size(), to);
+    try {
+      (void)parse_manifest(bad, "the manifest");
+      ADD_FAILURE() << to << " was taken";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(rule), std::string::npos) << e.what();
+    }
+  }
+}
+
+// A job whose outputs are all written when it completes keeps no layer: the interruption and
+// the manifest say that --resume slices every layer again; beside a per-layer format, that it
+// slices the kept ones once more.
+TEST_F(JobResume, AnInterruptedStackJobSaysResumeSlicesItsLayersAgain) {
+  JobParams p = params_for(fresh_dir("stack-note"), 1);
+  EXPECT_EQ(stack_resume_note(p), "");
+  p.formats = {"gcvf"};
+  EXPECT_EQ(stack_resume_note(p),
+            "gcvf is written only when the job completes and keeps no finished layer, so --resume slices every layer "
+            "again");
+  p.formats = {"voxelprint", "tiff"};
+  p.preview_layers = {3};
+  EXPECT_EQ(stack_resume_note(p),
+            "--resume keeps the finished layers of voxelprint and slices them once more for tiff and the previews of "
+            "--preview, written only when the job completes");
+  p.formats = {"gcvf"};
+  p.preview_layers.clear();
+  std::atomic<bool> stop{true};
+  p.stop = &stop;
+  const JobStats st = run_slice_job(*slicer_, p);
+  EXPECT_TRUE(st.interrupted);
+  const JobManifest m = read_manifest(p.output_dir / "manifest.json");
+  EXPECT_EQ(m.status, JobStatus::kInterrupted);
+  EXPECT_NE(m.message.find("--resume slices every layer again"), std::string::npos) << m.message;
+  fs::remove_all(p.output_dir);
+}
+
 TEST_F(JobResume, StoppedAtTwentyRandomLayerCountsAndResumedEndsByteIdentical) {
   std::mt19937 rng(20261123);
   int interrupted = 0;
@@ -181,6 +250,8 @@ TEST_F(JobResume, StoppedAtTwentyRandomLayerCountsAndResumedEndsByteIdentical) {
     const JobStats second = run_slice_job(*slicer_, again);
     EXPECT_FALSE(second.interrupted);
     EXPECT_EQ(second.layers_kept + static_cast<int>(second.files.size()) / 3, 30) << "trial " << trial;
+    // The printed extent is the whole job's, the layers kept included.
+    expect_same_extent(second.printed, *reference_printed_, fmt::format("trial {}", trial));
     EXPECT_EQ(folder_bytes(dir), *reference_) << "trial " << trial << " stopped after " << after;
     fs::remove_all(dir);
   }

@@ -118,7 +118,7 @@ TEST(SliceJob, StatsListThePixelsOfEveryCell) {
     const auto per_cell = layer.at("pixels_per_cell").get<std::vector<long>>();
     ASSERT_EQ(per_cell.size(), 2u);
     EXPECT_EQ(per_cell[0] + per_cell[1], layer.at("pixels_inside").get<long>()) << layer.at("layer");
-    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>()).stats;
+    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>() - 1).stats;
     EXPECT_EQ(std::vector<long>(direct.pixels_per_cell.begin(), direct.pixels_per_cell.end()), per_cell);
     total[0] += per_cell[0];
     total[1] += per_cell[1];
@@ -156,7 +156,7 @@ TEST(SliceJob, StatsWriteEveryCounterPerLayerAndTheirSum) {
   const auto stats = two_material_stats(slicer, "every-counter");
   LayerStats sum;
   for (const auto& layer : stats.at("layers")) {
-    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>()).stats;
+    const LayerStats direct = slicer.slice_layer(layer.at("layer").get<int>() - 1).stats;
     for (const TraceCounterField& f : kTraceCounterFields)
       EXPECT_EQ(layer.at(std::string(f.name)).get<std::int64_t>(), direct.*f.member) << f.name;
     sum += direct;

@@ -122,5 +122,47 @@ TEST_F(SceneMeshTrim, AMeshPlacedWhereDoublesLosePrecisionIsRefusedAsSuch) {
                "/cells/0/trim/0/shell/placement", "the placement overflows");
 }
 
+// {"bounding_box": {"mesh", "placement", "margin_mm"}}: the trilinear box around the placed
+// mesh, u, v, w along x, y, z; the mesh is read once for the box and the trim and hashed once.
+TEST_F(SceneMeshTrim, ABoundingBoxIsTheBoxAroundThePlacedMesh) {
+  write_stl("part.stl", test::box_mesh({1, 2, 3}, {2, 4, 7}));
+  const auto scene_text = [](const std::string& box) {
+    return R"({"version": 1, "units": "mm", "printer": "j750-paper", "materials": ["VeroCyan", "VeroMagenta"],
+      "cells": [{"name": "c", "geometry": {"bounding_box": )" +
+           box + R"(}, "material": "VeroCyan",
+      "trim": [{"side": "inside", "shell": {"mesh": "part.stl", "placement": {"scale": 2}}}]}]})";
+  };
+  const Scene s =
+      parse_scene(scene_text(R"({"mesh": "part.stl", "placement": {"scale": 2}, "margin_mm": 0.5})"), dir_ / "s.json");
+  const Box3 box = s.cells[0].volume.bounds();
+  EXPECT_EQ(box.lo, (Vec3{1.5, 3.5, 5.5}));
+  EXPECT_EQ(box.hi, (Vec3{4.5, 8.5, 14.5}));
+  // u runs along x, v along y, w along z.
+  const Vec3 p = s.cells[0].volume.evaluate({0.25, 0.5, 1.0});
+  EXPECT_DOUBLE_EQ(p.x, 2.25);
+  EXPECT_DOUBLE_EQ(p.y, 6.0);
+  EXPECT_DOUBLE_EQ(p.z, 14.5);
+  ASSERT_EQ(s.input_files.size(), 1u);
+  EXPECT_EQ(s.input_files[0].name, "part.stl");
+  // Without a margin the box is the mesh's.
+  const Scene tight = parse_scene(scene_text(R"({"mesh": "part.stl", "placement": {"scale": 2}})"), dir_ / "t.json");
+  EXPECT_EQ(tight.cells[0].volume.bounds().lo, (Vec3{2, 4, 6}));
+  EXPECT_EQ(tight.cells[0].volume.bounds().hi, (Vec3{4, 8, 14}));
+
+  test::expect_scene_error(scene_text(R"({"mesh": "part.stl", "margin_mm": -1})"),
+                           "/cells/0/geometry/bounding_box/margin_mm", "expected a margin >= 0 mm", dir_);
+  test::expect_scene_error(scene_text(R"({"mesh": "part.stl", "scale": 2})"), "/cells/0/geometry/bounding_box/scale",
+                           "unknown key", dir_);
+  test::expect_scene_error(scene_text(R"({"mesh": "none.stl"})"), "/cells/0/geometry/bounding_box/mesh",
+                           "there is no file", dir_);
+  // A flat mesh (one triangle) has a box without interior unless given a margin.
+  test::TestMesh flat;
+  flat.vertices = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
+  flat.triangles = {{0, 1, 2}};
+  write_stl("flat.stl", flat);
+  test::expect_scene_error(scene_text(R"({"mesh": "flat.stl"})"), "/cells/0/geometry/bounding_box/mesh",
+                           "is flat (1 x 1 x 0 mm where it is placed)", dir_);
+}
+
 }  // namespace
 }  // namespace trivox

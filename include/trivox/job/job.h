@@ -108,7 +108,8 @@ struct JobStats {
   std::vector<std::string> files;  // every file written by this run, relative to the output folder, sorted
   int layers_kept = 0;             // job layers a resumed job found complete and did not redo
   bool interrupted = false;        // JobParams::stop ended the job early (manifest: interrupted)
-  PrintedExtent printed;           // the voxels with a material, of the layers this run sliced
+  PrintedExtent printed;           // the voxels with a material, of the whole job: the layers this run
+                                   // sliced and those a resumed job kept (ManifestPrinted)
 };
 
 // Reports progress from the job's workers (calls are serialised by the job).
@@ -117,6 +118,12 @@ class ProgressSink {
   virtual ~ProgressSink() = default;
   virtual void on_layer_done(int done, int total) = 0;
 };
+
+// What --resume does for the outputs written only when a job completes (the stack formats,
+// is_stack_format, and the previews of --preview): they keep no finished layer, so a resumed
+// job slices its kept layers once more for them, and every layer when they are all it writes.
+// One sentence for the interruption's message and the manifest; empty when the job has none.
+std::string stack_resume_note(const JobParams& params);
 
 // Slices and writes the layers, keeping the manifest up to date, then the colour-to-material
 // sheet materials.csv (output/detail/material_sheet.h); writes stats.json last

@@ -36,6 +36,14 @@ struct ManifestFile {
   std::string sha256;
 };
 
+// The voxels of one job layer that hold a material (printed_extent.h), kept so that a resumed
+// job reports the printed extent of the whole job and not only of the layers it sliced. Only
+// layers with a material are listed.
+struct ManifestPrinted {
+  int layer = 0;                                       // 1-based job layer, as ManifestFile::layer
+  int col_lo = 0, col_hi = 0, row_lo = 0, row_hi = 0;  // inclusive pixel bounds
+};
+
 // A cell of the scene, for resuming a job after a correction of the scene.
 struct ManifestCell {
   std::string name;
@@ -66,9 +74,10 @@ struct JobManifest {
   int shard_count = 1;
   // Absent for a scene built in code (and in manifests of earlier versions).
   std::optional<ManifestSceneParts> scene_parts;
-  std::vector<ManifestFile> files;  // sorted by (layer, name)
+  std::vector<ManifestFile> files;       // sorted by (layer, name)
+  std::vector<ManifestPrinted> printed;  // sorted by layer; absent in manifests of earlier versions
 
-  // Sorts files by (layer, name).
+  // Sorts files by (layer, name) and printed by layer.
   void sort_files();
 };
 

@@ -6,6 +6,7 @@
 
 #include <climits>
 
+#include "trivox/job/manifest.h"
 #include "trivox/math.h"
 #include "trivox/raster/material_grid.h"
 #include "trivox/slice/layout.h"
@@ -24,6 +25,8 @@ struct PrintedExtent {
 
 // The voxels of one layer's labels that hold a material, as layer `layer` of the layout.
 PrintedExtent printed_extent(const LabelImage& labels, int layer);
+// The extent a manifest records for a layer (ManifestPrinted), as layer `layer` of the layout.
+PrintedExtent printed_extent(const ManifestPrinted& recorded, int layer);
 
 // The box those voxels fill in model space (mm): whole voxels, from the left edge of the
 // first column to the right edge of the last, and so on. An empty box for an empty extent.

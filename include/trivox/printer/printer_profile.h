@@ -14,6 +14,8 @@
 //     over 128 x 81 mm), square pixels, 0.05 mm layers by default (any layer height prints).
 #pragma once
 
+#include <algorithm>
+
 #include <optional>
 #include <span>
 #include <string>
@@ -74,6 +76,9 @@ struct PrinterProfile {
   double pitch_x_mm() const noexcept { return 25.4 / x_dpi; }
   double pitch_y_mm() const noexcept { return 25.4 / y_dpi; }
   double pitch_z_mm() const noexcept { return layer_thickness_mm; }
+  // The finest of the three pitches: the scale below which the slicer's decisions and the
+  // scene's checks (a mesh's intersections, a volume's resolution) count nothing.
+  double finest_pitch_mm() const noexcept { return std::min({pitch_x_mm(), pitch_y_mm(), pitch_z_mm()}); }
 
   // Throws Error naming the profile and the field when x_dpi, y_dpi or layer_thickness_mm
   // is not finite and > 0, max_materials < 1, or a display is given whose sizes are not

@@ -59,6 +59,11 @@ struct SliceParams {
   // is inverted and then tested: the same output, more inversions (the reference the
   // narrowing is checked against).
   bool model_space_narrowing = true;
+  // The frame (bitmap and layers) from each cell's volume cut down to the boxes of the
+  // model-space "inside" trims it lies inside (Slicer::object_bounds). Off, from the volumes
+  // alone: a larger frame around the same voxels (the reference the tight frame is checked
+  // against, and the frame of releases before it).
+  bool frame_from_trims = true;
   // With trivox's own strategies (predict, flood), cells of one constant material,
   // untrimmed, without a greyscale source and not folded take the pixels their outline
   // decides inside (centres inside its cut and farther than the band from it) without
