@@ -277,7 +277,9 @@ void run_info(const InfoOptions& options) {
 void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* cmd =
-      app.add_subcommand("info", "Describe a model: patches, orders, control points, domain, bounds, Jacobian check.");
+      app.add_subcommand("info",
+                         "Describe a model (patches, orders, control points, domain, bounds, Jacobian check), a "
+                         "triangle mesh (its box and the checks of a mesh trim) or a scene (the job's estimate).");
   cmd->add_option("model", options->model_path,
                   "Model file: IRIT .itd, G+Smo .xml or GoTools .g2; a triangle mesh (.stl, .obj, .ply, .3mf) for "
                   "its box and the checks of a mesh trim; or a scene (.json) for a job estimate")

@@ -98,7 +98,9 @@ void run_init(const InitOptions& o) {
 void add_init_command(CLI::App& app) {
   auto opts = std::make_shared<InitOptions>();
   CLI::App* cmd = app.add_subcommand(
-      "init", "Write a scene to start from: a box graded between two library materials, described in its own words");
+      "init",
+      "Write a scene to start from: a box graded between two library materials (or, with --mesh, the part a mesh "
+      "encloses), described in its own words");
   cmd->add_option("scene", opts->path, "the scene file to write (NAME.json)")->required();
   cmd->add_option("--printer", opts->scene.printer,
                   fmt::format("a built-in printer profile ({})", fmt::join(builtin_printer_profile_names(), ", ")))

@@ -131,15 +131,17 @@ void Slicer::Impl::check_model_fits(double finest_pitch_mm) const {
 namespace {
 
 // A box that holds every point a model-space "inside" clause keeps, or nullopt when the
-// clause does not bound its cell that way (an "outside" clause, a parametric trim): the box
-// of a mesh's vertices, the control points' box of a shell's surfaces (their convex hulls
-// hold them and what they enclose), the tight image of a trimming volume.
+// clause does not bound its cell that way (an "outside" clause, a parametric trim, a mesh
+// decided by its winding number): the box of a closed mesh's vertices, the control points' box
+// of a shell's surfaces (their convex hulls hold them and what they enclose), the tight image
+// of a trimming volume. An open mesh is left out: its winding number may reach 1/2 beyond its
+// vertices' hull where sheets of it overlap as seen from a point.
 std::optional<Box3> clause_box(const detail::LayerDecision& decision, const detail::LayerDecision::Clause& k) {
   if (k.side != TrimSide::kInside) return std::nullopt;
   if (k.kind == TrimKind::kVolume) return decision.trivariates()[static_cast<std::size_t>(k.trivariate)]->image;
   if (k.kind != TrimKind::kShell || k.source == nullptr || !k.source->shell) return std::nullopt;
   const TrimShell& shell = *k.source->shell;
-  if (shell.mesh) return shell.mesh->bounds();
+  if (shell.mesh) return shell.rule == InsideRule::kEvenOdd ? std::optional<Box3>(shell.mesh->bounds()) : std::nullopt;
   Box3 box;
   for (const TensorSpline& s : shell.surfaces) box.expand(s.control_box());
   for (const TrimmedSurface& t : shell.trimmed) box.expand(t.surface.control_box());

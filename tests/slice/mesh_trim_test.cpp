@@ -95,10 +95,11 @@ TEST(MeshTrim, OccupancyOfTheFiveSharedMeshesAgreesWithExactRays) {
                 << " disagree\n";
       EXPECT_EQ(o.mismatches, 0) << m.name << " " << rule;
       EXPECT_GT(o.inside, 1000) << m.name << " " << rule;
-      if (std::string(m.name) == "box.stl") {
-        // The frame is what the cell keeps, the box mesh's own box cut by the cell's: every
-        // pixel in it is inside, and the mesh's faces, laid out from its corner, may carry a
-        // row of pixel centres the rays cannot decide (left out), but no more than a few rows.
+      if (std::string(m.name) == "box.stl" && rule == "even-odd") {
+        // The frame is what the cell keeps, the box mesh's own box cut by the cell's (a mesh
+        // decided by its winding number does not narrow it): every pixel in it is inside, and
+        // the mesh's faces, laid out from its corner, may carry a row of pixel centres the rays
+        // cannot decide (left out), but no more than a few rows.
         EXPECT_EQ(o.checked, o.inside) << rule;
         EXPECT_LT(o.left_out, o.checked / 20) << rule;
       } else {

@@ -108,7 +108,14 @@ TEST(SlicerFrame, ACellInsideAVolumeOrSeveralTrimsIsFramedByWhatAllOfThemKeep) {
   EXPECT_EQ(cut.object_bounds().lo.x, 1);
   EXPECT_EQ(cut.object_bounds().hi.y, 3);
 
-  // An "outside" clause bounds nothing: the cube's frame stays.
+  // A mesh decided by its winding number bounds nothing either (with gaps, its inside may
+  // reach beyond its vertices), nor does an "outside" clause: the cube's frame stays.
+  const Scene winding =
+      parse_scene(cube_scene(R"({"side": "inside", "shell": {"mesh": "inner.stl", "inside_rule": "winding-number"}})"),
+                  dir / "w.json");
+  const Slicer by_winding(winding, {});
+  EXPECT_NEAR(by_winding.object_bounds().lo.x, 0, 1e-6);
+  EXPECT_NEAR(by_winding.object_bounds().hi.z, 4, 1e-6);
   const Scene outside =
       parse_scene(cube_scene(R"({"side": "outside", "shell": {"mesh": "inner.stl"}})"), dir / "o.json");
   const Slicer hollow(outside, {});

@@ -60,7 +60,7 @@ class Slicer {
 
   const SliceLayout& layout() const noexcept;
   // The object's box in model space (mm) that the layout frames: per cell its volume's tight
-  // image box, cut down to the box of every model-space trim it lies inside (a mesh's
+  // image box, cut down to the box of every model-space trim it lies inside (a closed mesh's
   // vertices, a shell's control points, a trimming volume's image); the union over the cells.
   // Tighter than Scene::bounds(), the control points' box.
   const Box3& object_bounds() const noexcept;
