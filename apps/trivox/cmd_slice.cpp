@@ -75,12 +75,11 @@ void print_summary(const JobOptions& o, const SliceJob& slice_job, const Slicer&
   const std::int64_t inside = st.total.pixels_inside, global = st.total.global_calls;
   // The model's layers this job covers, numbered from 1 as --layers numbers them, when the
   // job is not the whole model (the layer files number the stack from 1: CLI.md).
-  const int last_layer = job.last_layer < 0 ? L.num_layers - 1 : std::min(job.last_layer, L.num_layers - 1);
   std::string range;
-  if (job.first_layer == last_layer)
-    range = fmt::format(", layer {} of the model's {}", last_layer + 1, L.num_layers);
-  else if (job.first_layer > 0 || last_layer < L.num_layers - 1)
-    range = fmt::format(", layers {} to {} of the model's {}", job.first_layer + 1, last_layer + 1, L.num_layers);
+  if (st.first_layer == st.last_layer)
+    range = fmt::format(", layer {} of the model's {}", st.last_layer + 1, L.num_layers);
+  else if (st.first_layer > 0 || st.last_layer < L.num_layers - 1)
+    range = fmt::format(", layers {} to {} of the model's {}", st.first_layer + 1, st.last_layer + 1, L.num_layers);
   fmt::print("sliced {} layer{} ({} x {} px{}) into {} in {:.2f} s with {}\n", st.layers.size(),
              st.layers.size() == 1 ? "" : "s", L.width_px, L.height_px, range, o.output, st.seconds,
              thread_text(st.threads));
@@ -89,13 +88,15 @@ void print_summary(const JobOptions& o, const SliceJob& slice_job, const Slicer&
   if (!st.printed.empty()) {
     // Whole voxels, so each size is a multiple of the pitch: what the printer builds.
     const Vec3 printed = printed_box_mm(st.printed, L).size(), model = slicer.object_bounds().size();
+    const int printed_layers = st.printed.layer_hi - st.printed.layer_lo + 1;
     fmt::print(
-        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layers); model: {:.2f} x {:.2f} x {:.2f} mm\n",
+        "printed extent: {:.2f} x {:.2f} x {:.2f} mm ({} x {} px, {} layer{}); model: {:.2f} x {:.2f} x {:.2f} mm\n",
         printed.x, printed.y, printed.z, st.printed.col_hi - st.printed.col_lo + 1,
-        st.printed.row_hi - st.printed.row_lo + 1, st.printed.layer_hi - st.printed.layer_lo + 1, model.x, model.y,
+        st.printed.row_hi - st.printed.row_lo + 1, printed_layers, printed_layers == 1 ? "" : "s", model.x, model.y,
         model.z);
   }
-  if (st.layers_kept > 0) fmt::print("resumed: {} layers were already complete\n", st.layers_kept);
+  if (st.layers_kept > 0)
+    fmt::print("resumed: {} layer{} already complete\n", st.layers_kept, st.layers_kept == 1 ? " was" : "s were");
   if (job.shard_count > 1)
     fmt::print("shard {} of {}: when every shard is complete, run `trivox merge {}`\n", job.shard_index,
                job.shard_count, o.output);
@@ -103,7 +104,7 @@ void print_summary(const JobOptions& o, const SliceJob& slice_job, const Slicer&
     fmt::print("padded with {} empty layers to reach {} layers{}\n", st.padded_layers, min_layers_of(job),
                job.min_layers ? "" : ", as Voxel Print needs");
   // A stack shorter than GrabCAD Voxel Print takes is only written when asked for; say so.
-  const int model_layers = last_layer - job.first_layer + 1;
+  const int model_layers = st.last_layer - st.first_layer + 1;
   const int stack_layers = model_layers + st.padded_layers;
   const bool voxel_print = std::any_of(job.formats.begin(), job.formats.end(),
                                        [](const std::string& f) { return layer_writer_feeds_voxel_print(f); });

@@ -322,7 +322,7 @@ void JobRun::open_folder() {
       pending_.push_back(index);
   for (const ManifestPrinted& p : manifest_.printed) stats_.printed.add(printed_extent(p, range_.first + p.layer - 1));
   stats_.layout = slicer_.layout();
-  stats_.padded_layers = range_.padded;
+  stats_.padded_layers = range_.padded, stats_.first_layer = range_.first, stats_.last_layer = range_.last;
   stats_.layers_kept = static_cast<int>(std::count(kept_.begin(), kept_.end(), 1));
 }
 

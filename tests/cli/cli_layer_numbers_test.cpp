@@ -37,6 +37,12 @@ TEST(CliLayerNumbers, LayersPreviewSummaryAndStatsCountTheModelsLayersFromOne) {
   ASSERT_EQ(one.exit_code, 0) << one.err;
   EXPECT_NE(one.out.find("sliced 1 layer (709 x 355 px, layer 7 of the model's 223) into"), std::string::npos)
       << one.out;
+  EXPECT_NE(one.out.find(" px, 1 layer); model: "), std::string::npos) << one.out;  // the printed extent too
+  // A resume that finds one layer complete says so in the singular.
+  const CliResult again = run_cli("slice " + shell_quote(examples_dir() / "scenes" / "quick_start.json") +
+                                  " --layers 7:7 --min-layers 0 -q --resume -o " + shell_quote(dir.path() / "one"));
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.out.find("resumed: 1 layer was already complete"), std::string::npos) << again.out;
 }
 
 }  // namespace

@@ -100,10 +100,11 @@ int min_layers_of(const JobParams& params);
 
 struct JobStats {
   SliceLayout layout;
-  std::vector<LayerStats> layers;  // in layer order
-  LayerStats total;                // the layers summed (sum_layer_stats), as stats.json's "total"
-  int padded_layers = 0;           // empty layers added to reach min_layers
-  double seconds = 0;              // wall time of the whole job
+  std::vector<LayerStats> layers;       // in layer order
+  LayerStats total;                     // the layers summed (sum_layer_stats), as stats.json's "total"
+  int padded_layers = 0;                // empty layers added to reach min_layers
+  int first_layer = 0, last_layer = 0;  // the model's layers the job covers (0-based, inclusive)
+  double seconds = 0;                   // wall time of the whole job
   int threads = 0;
   std::vector<std::string> files;  // every file written by this run, relative to the output folder, sorted
   int layers_kept = 0;             // job layers a resumed job found complete and did not redo
