@@ -31,6 +31,8 @@ packages=(
   clang libclang-rt-14-dev
   # the format check of CI (scripts/check_format.sh)
   clang-format
+  # a transcript of docs/FORMATS.md lists the GrabCAD package with it (scripts/check_docs.py)
+  unzip
 )
 
 if [ "${1:-}" = "--optional" ]; then
