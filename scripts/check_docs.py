@@ -140,22 +140,35 @@ def matches(shown, actual):
 _help = {}
 
 
-def options_of(trivox, sub):
-    """The options `trivox SUB --help` lists (the program's own with sub None); None when
-    SUB is no subcommand."""
-    if sub not in _help:
-        args = [trivox] + ([sub] if sub else []) + ["--help"]
-        r = subprocess.run(args, capture_output=True, text=True)
+def help_of(trivox, chain):
+    """(options, subcommands) that `trivox CHAIN... --help` lists; None when CHAIN is no
+    subcommand."""
+    key = tuple(chain)
+    if key not in _help:
+        r = subprocess.run([trivox, *chain, "--help"], capture_output=True, text=True)
         if r.returncode != 0:
-            _help[sub] = None
+            _help[key] = None
         else:
-            opts = set()
+            opts, subs, in_subs = set(), set(), False
             for line in r.stdout.splitlines():
+                if line.strip().upper().startswith("SUBCOMMANDS"):
+                    in_subs = True
+                    continue
                 m = re.match(r"\s+((?:-[-\w]+,?)+)", line)
                 if m:
                     opts.update(o for o in m.group(1).split(",") if o)
-            _help[sub] = opts
-    return _help[sub]
+                    in_subs = False
+                elif in_subs and re.match(r"\s+[a-z][\w-]*", line):
+                    subs.add(line.split()[0])
+            _help[key] = (opts, subs)
+    return _help[key]
+
+
+def options_of(trivox, chain):
+    """The options of `trivox CHAIN...` (the program's own with an empty chain); None when
+    CHAIN is no subcommand."""
+    h = help_of(trivox, chain)
+    return None if h is None else h[0]
 
 
 def parse_problems(trivox, command):
@@ -181,17 +194,23 @@ def parse_problems(trivox, command):
         if sub is not None and sub.isupper():  # a placeholder: trivox COMMAND --help
             i = j
             continue
-        if sub is not None and options_of(trivox, sub) is None:
+        chain = [sub] if sub is not None else []
+        if chain and help_of(trivox, chain) is None:
             problems.append(f"'{sub}' is no subcommand of trivox")
-        else:
-            known = options_of(trivox, sub) if sub else options_of(trivox, None)
-            for a in args:
-                if a == "--":
-                    break
-                if a.startswith("-") and not NUMBER.fullmatch(a):
-                    name = a.split("=", 1)[0]
-                    if name not in known and name not in options_of(trivox, None):
-                        problems.append(f"trivox {sub or ''} has no option {name}")
+            i = j
+            continue
+        # A subcommand's own subcommand (trivox cluster slurm): the next word when listed.
+        rest = args[args.index(sub) + 1:] if sub is not None else []
+        if rest and help_of(trivox, chain)[1] and rest[0] in help_of(trivox, chain)[1]:
+            chain.append(rest[0])
+        known = options_of(trivox, chain) | options_of(trivox, [])
+        for a in args:
+            if a == "--":
+                break
+            if a.startswith("-") and not NUMBER.fullmatch(a):
+                name = a.split("=", 1)[0]
+                if name not in known:
+                    problems.append(f"trivox {' '.join(chain)} has no option {name}")
         i = j
     return problems
 
@@ -377,6 +396,7 @@ exit 2
 ```sh
 trivox vaildate scene.json
 TRIVOX_SIMD=sse4 build/release/bin/trivox info --bogus x.itd
+trivox cluster slurm s.json -o d --shards 2 --partition p --sharts 2
 trivox: error: x.itd: an output line where trivox says what it does
 ```
 
@@ -401,7 +421,7 @@ def self_test(trivox, python_path):
     text = "\n".join(findings)
     expected = ["has no option --no-such-option", "the output differs from the docs': trivox --version",
                 "exit 1, the docs show 0: false", "'vaildate' is no subcommand",
-                "trivox info has no option --bogus"]
+                "trivox info has no option --bogus", "trivox cluster slurm has no option --sharts"]
     if python_path:  # without the module the Python blocks are only compiled
         expected += ["Expected:\n    |     41", "NameError"]
     missing = [e for e in expected if e not in text]

@@ -5,7 +5,9 @@
 #
 # `scripts/install-deps.sh --optional` also installs the optional packages: prusa-slicer
 # (large), whose `--export-sla` archives tests/tools/check_sl1_archive.py compares trivox's
-# SL1/SL1S archives with; that check is skipped where it is absent.
+# SL1/SL1S archives with; that check is skipped where it is absent. `--slurm` also installs
+# slurm-wlm and munge, for the one-node Slurm of scripts/slurm_check.sh (CI installs them; the
+# check is skipped where they are absent).
 set -euo pipefail
 
 optional=(prusa-slicer)
@@ -35,9 +37,16 @@ packages=(
   unzip
 )
 
-if [ "${1:-}" = "--optional" ]; then
-  packages+=("${optional[@]}")
-fi
+# A one-node Slurm for scripts/slurm_check.sh (docs/CLUSTER.md); CI installs it.
+slurm=(slurm-wlm munge)
+
+for option in "$@"; do
+  case "$option" in
+    --optional) packages+=("${optional[@]}") ;;
+    --slurm) packages+=("${slurm[@]}") ;;
+    *) echo "install-deps: unknown option '$option' (expected --optional or --slurm)" >&2; exit 2 ;;
+  esac
+done
 
 if ! command -v dpkg-query >/dev/null 2>&1; then
   echo "install-deps: dpkg-query not found: this script installs Debian packages (Debian 12 bookworm)." >&2

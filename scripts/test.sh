@@ -30,16 +30,20 @@ for preset in "${presets[@]}"; do
   # decision's equivalence on the shared scenes and meshes and on the four largest bundled
   # examples (the smaller ones run it here), probe and info on every shared volume file, the
   # chalice, the duck, the teapot and the shared models sliced whole, the twenty kills at
-  # random moments, every example sliced at several thread counts (the determinism of the
+  # random moments and the library's twenty stops at random layer counts (one stop and resume
+  # runs under the sanitizers), the mesh containment property on a fine soup (the smaller ones
+  # run there), every example sliced at several thread counts (the determinism of the
   # output, a release property; ThreadSanitizer checks the threads), the pipeline
   # fuzzer's checked-in inputs (scripts/fuzz.sh replays them under the same sanitizers), and
-  # the documentation's transcripts and examples (scripts/check_docs.py: the program's text).
+  # the documentation's transcripts and examples (scripts/check_docs.py: the program's text),
+  # and the jobs submitted to a one-node Slurm (scripts/slurm_check.sh).
   exclude=()
   heavy='LayerDecision.*(shared_scenes|EveryMeshTrimAndRule)|CliSharedProbe\.|CliInfo\.ReadsEveryShared'
   heavy+='|LayerDecisionOfExample.*(column_scalar_gradient|column_greyscale_sl1s|twisted_column_porous|chalice)'
   heavy+='|CliInfo\.JacobianClassesMatchProvenance|FuzzInputs\..*/pipeline'
   heavy+='|Chalice\.|FillInterior\.SharedDuck|DuckTrimmedBox\.|TeapotTrimmedBox\.|SharedModels\.'
-  heavy+='|CliKill\.TwentyKills|DeterminismOfExample\.|Docs\.'
+  heavy+='|CliKill\.TwentyKills|DeterminismOfExample\.|Docs\.|Cluster\.'
+  heavy+='|JobResume\.StoppedAtTwentyRandomLayerCounts|ShellMesh\.ContainsAgreesWithTheWindingNumberOfAFinerSoup'
   [ "$preset" = asan ] && exclude=(-E "$heavy")
   ctest --preset "$preset" --parallel "$jobs" "${exclude[@]}" 2>&1 | tee "$log"
   status=${PIPESTATUS[0]}

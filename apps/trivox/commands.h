@@ -46,9 +46,12 @@ void add_verify_command(CLI::App& app);
 // `trivox init NAME.json`: a scene to start from, a box with a two-material gradient.
 void add_init_command(CLI::App& app);
 
+// `trivox cluster slurm SCENE -o DIR --shards N`: the batch scripts of a sharded job on Slurm.
+void add_cluster_command(CLI::App& app);
+
 using AddCommand = void (*)(CLI::App&);
-inline constexpr std::array<AddCommand, 8> kCommands = {&add_init_command,  &add_slice_command,  &add_validate_command,
-                                                        &add_merge_command, &add_verify_command, &add_info_command,
-                                                        &add_probe_command, &add_build_command};
+inline constexpr std::array<AddCommand, 9> kCommands = {&add_init_command,  &add_slice_command,  &add_validate_command,
+                                                        &add_merge_command, &add_verify_command, &add_cluster_command,
+                                                        &add_info_command,  &add_probe_command,  &add_build_command};
 
 }  // namespace trivox::cli

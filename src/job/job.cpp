@@ -310,7 +310,7 @@ void JobRun::open_folder() {
       throw Error(
           fmt::format("{}: cannot resume this job: {}; slice into a new folder, or without --resume to start over",
                       manifest_path_.string(), fmt::join(diffs, "; ")));
-    remove_stale_temporaries(params_.output_dir);
+    remove_stale_temporaries(params_.output_dir, lock_->stale_temporaries());
     manifest_.files = std::move(intact);
     manifest_.printed = detail::printed_of_kept_layers(previous, manifest_.files);
   }

@@ -193,6 +193,23 @@ std::string decode_problem(const std::filesystem::path& path, const JobManifest&
   return {};
 }
 
+// Which shards have no manifest, and how to slice just them: with the scene the other shards
+// name, and with the array script of `trivox cluster slurm` when the folder has one.
+std::string missing_shards_message(const std::filesystem::path& dir, const std::map<int, std::filesystem::path>& shards,
+                                   const std::vector<std::string>& missing, int count) {
+  std::string scene = "SCENE";
+  for (const ManifestInput& in : read_manifest(shards.begin()->second).inputs)
+    if (in.role == "scene") scene = in.name;
+  std::string message = fmt::format(
+      "{}: cannot merge: shard(s) {} of {} have no manifest yet; slice each with `trivox slice {} -o {} "
+      "--shard I/{} --resume` and the options of the others",
+      dir.string(), fmt::join(missing, ", "), count, scene, dir.string(), count);
+  std::error_code ec;
+  if (const auto script = dir / "slurm" / "shards.sbatch"; count <= 1000 && std::filesystem::exists(script, ec))
+    message += fmt::format(", or on Slurm `sbatch --array={} {} 0`", fmt::join(missing, ","), script.string());
+  return message;
+}
+
 }  // namespace
 
 JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<bool>* stop) {
@@ -206,9 +223,7 @@ JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<boo
   std::vector<std::string> missing;
   for (int i = 1; i <= count; ++i)
     if (!shards.count(i)) missing.push_back(std::to_string(i));
-  if (!missing.empty())
-    throw Error(fmt::format("{}: cannot merge: shard(s) {} of {} have no manifest yet", dir.string(),
-                            fmt::join(missing, ", "), count));
+  if (!missing.empty()) throw Error(missing_shards_message(dir, shards, missing, count));
 
   JobManifest merged;
   std::vector<int> owner;
@@ -267,6 +282,8 @@ JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<boo
     std::filesystem::remove(path, ec);
     if (ec) throw IoError(fmt::format("{}: cannot remove after merging: {}", path.string(), ec.message()));
   }
+  // Every shard is complete and the folder is held: what a killed shard left on any machine goes.
+  remove_stale_temporaries(dir, StaleTemporaries::kOfEveryMachine);
   return merged;
 }
 

@@ -1,12 +1,15 @@
 #include "trivox/job/job_lock.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <system_error>
@@ -41,29 +44,78 @@ std::string holder_line(const std::filesystem::path& path) {
   return line;
 }
 
-// "process 1234 on host h, started T" from "pid=1234 host=h started=T"; the line itself when
-// it is not in that form (written by hand, or truncated).
-std::string holder_text(const std::string& line) {
-  std::string pid, host, started;
+// The words of a holder line, "pid=1234 host=h task=slurm:7_2 started=T" (task only under a
+// scheduler).
+struct Holder {
+  std::string pid, host, task, started;
+};
+
+Holder holder_of(const std::string& line) {
+  Holder h;
   std::size_t at = 0;
   while (at < line.size()) {
     const std::size_t end = std::min(line.find(' ', at), line.size());
     const std::string word = line.substr(at, end - at);
-    if (word.starts_with("pid=")) pid = word.substr(4);
-    if (word.starts_with("host=")) host = word.substr(5);
-    if (word.starts_with("started=")) started = word.substr(8);
+    if (word.starts_with("pid=")) h.pid = word.substr(4);
+    if (word.starts_with("host=")) h.host = word.substr(5);
+    if (word.starts_with("task=")) h.task = word.substr(5);
+    if (word.starts_with("started=")) h.started = word.substr(8);
     at = end + 1;
   }
-  if (pid.empty()) return line.empty() ? std::string("a process that has not yet said who it is") : "'" + line + "'";
-  return fmt::format("process {}{}{}", pid, host.empty() ? "" : " on host " + host,
-                     started.empty() ? "" : ", started " + started);
+  return h;
+}
+
+// "process 1234 on host h (task slurm:7_2), started T" from a holder line; the line itself
+// when it is not in that form (written by hand, or truncated).
+std::string holder_text(const std::string& line) {
+  const Holder h = holder_of(line);
+  if (h.pid.empty()) return line.empty() ? std::string("a process that has not yet said who it is") : "'" + line + "'";
+  return fmt::format("process {}{}{}{}", h.pid, h.host.empty() ? "" : " on host " + h.host,
+                     h.task.empty() ? "" : " (task " + h.task + ")", h.started.empty() ? "" : ", started " + h.started);
+}
+
+// The scheduler's task this process runs as: TRIVOX_TASK_ID when set, else Slurm's array task
+// ("slurm:<array job>_<index>") or job ("slurm:<job>"); empty outside a scheduler.
+std::string this_task() {
+  const auto env = [](const char* name) {
+    const char* value = std::getenv(name);
+    return std::string(value == nullptr ? "" : value);
+  };
+  std::string task = env("TRIVOX_TASK_ID");
+  if (task.empty() && !env("SLURM_ARRAY_JOB_ID").empty() && !env("SLURM_ARRAY_TASK_ID").empty())
+    task = "slurm:" + env("SLURM_ARRAY_JOB_ID") + "_" + env("SLURM_ARRAY_TASK_ID");
+  if (task.empty() && !env("SLURM_JOB_ID").empty()) task = "slurm:" + env("SLURM_JOB_ID");
+  for (char& c : task)
+    if (std::isspace(static_cast<unsigned char>(c))) c = '_';
+  return task.substr(0, 128);
 }
 
 std::string this_holder_line() {
-  char host[256] = {};
-  if (gethostname(host, sizeof host - 1) != 0) std::strcpy(host, "unknown");
   const auto now = std::chrono::time_point_cast<std::chrono::seconds>(std::chrono::system_clock::now());
-  return fmt::format("pid={} host={} started={:%Y-%m-%dT%H:%M:%SZ}\n", ::getpid(), host, now);
+  const std::string task = this_task();
+  return fmt::format("pid={} host={}{} started={:%Y-%m-%dT%H:%M:%SZ}\n", ::getpid(), machine_name(),
+                     task.empty() ? "" : " task=" + task, now);
+}
+
+// Whether a lock's holder is an earlier run of this process's own task: the same task, and a
+// process that is not running here (on another machine, or ended on this one). A scheduler
+// runs one copy of a task at a time, so that run has ended - its node lost, the task requeued
+// - though the file server may keep its lock until it notices (docs/CLUSTER.md, "Locks").
+bool earlier_run_of_this_task(const std::string& line) {
+  const Holder h = holder_of(line);
+  const std::string task = this_task();
+  if (task.empty() || h.task != task) return false;
+  if (h.host != machine_name()) return true;
+  const long pid = std::atol(h.pid.c_str());
+  return pid > 0 && pid != static_cast<long>(::getpid()) && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+// The lock file opened without its lock, for a job that takes over from an earlier run of its
+// own task; throws IoError naming it when it cannot be opened.
+int open_unlocked(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) throw IoError(fmt::format("{}: cannot open the lock file: {}", path.string(), errno_text(errno)));
+  return fd;
 }
 
 // Takes a flock of `mode` (LOCK_EX or LOCK_SH) on `path` without waiting. Returns the file
@@ -181,6 +233,8 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
   const std::filesystem::path folder_lock = h.dir / job_lock_file_name();
   const bool sharded = h.shard_count > 1;
   h.folder_fd = try_lock(folder_lock, sharded ? LOCK_SH : LOCK_EX);
+  if (h.folder_fd < 0 && !sharded && earlier_run_of_this_task(holder_line(folder_lock)))
+    h.folder_fd = open_unlocked(folder_lock);
   if (h.folder_fd < 0) {
     // A whole job holds it (its line is in the file), or running shards hold it shared.
     const std::vector<std::string> shards = running_shards(h.dir);
@@ -206,6 +260,7 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
     release(h.folder_fd, folder_lock, false);
     throw;
   }
+  if (h.shard_fd < 0 && earlier_run_of_this_task(holder_line(shard_lock))) h.shard_fd = open_unlocked(shard_lock);
   if (h.shard_fd < 0) {
     release(h.folder_fd, folder_lock, false);
     refuse(h.dir, shard_lock, holder_text(holder_line(shard_lock)));
@@ -247,5 +302,8 @@ const std::filesystem::path& JobFolderLock::dir() const noexcept { return held_-
 int JobFolderLock::shard_index() const noexcept { return held_->shard_index; }
 int JobFolderLock::shard_count() const noexcept { return held_->shard_count; }
 const std::optional<std::string>& JobFolderLock::taken_over_from() const noexcept { return held_->taken_over_from; }
+StaleTemporaries JobFolderLock::stale_temporaries() const noexcept {
+  return held_->shard_count > 1 ? StaleTemporaries::kOfThisMachine : StaleTemporaries::kOfEveryMachine;
+}
 
 }  // namespace trivox

@@ -4,9 +4,11 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <cstring>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -23,6 +25,11 @@ std::string errno_text(int error_number) { return std::error_code(error_number, 
 
 constexpr std::string_view kTempMarker = ".tmp-";
 
+// The characters machine_name() keeps.
+bool host_character(char c) noexcept {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '-' || c == '_';
+}
+
 }  // namespace
 
 AtomicFile::AtomicFile(const std::filesystem::path& target) : target_(target) {
@@ -30,8 +37,8 @@ AtomicFile::AtomicFile(const std::filesystem::path& target) : target_(target) {
   static std::atomic<unsigned> counter{0};
   const std::string base = target.filename().string();
   for (int attempt = 0; attempt < 100; ++attempt) {
-    path_ =
-        target.parent_path() / fmt::format("{}{}{}-{}", base, kTempMarker, static_cast<long>(::getpid()), counter++);
+    path_ = target.parent_path() /
+            fmt::format("{}{}{}-{}@{}", base, kTempMarker, static_cast<long>(::getpid()), counter++, machine_name());
     const int fd = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
       if (errno == EEXIST) continue;
@@ -79,7 +86,32 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view bytes
   file.commit();
 }
 
+std::string machine_name() {
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0 || host[0] == '\0') return "unknown";
+  std::string name(host, std::min<std::size_t>(std::strlen(host), 64));
+  for (char& c : name)
+    if (!host_character(c)) c = '_';
+  return name;
+}
+
+namespace {
+
+// The host part of a temporary's name ("@<host>" after the digits); empty when it has none.
+std::string_view host_of_temporary(std::string_view name) noexcept {
+  const std::size_t at = name.rfind('@');
+  return at == std::string_view::npos ? std::string_view() : name.substr(at + 1);
+}
+
+}  // namespace
+
 bool is_atomic_temporary_name(std::string_view name) noexcept {
+  // "<name>.tmp-<pid>-<n>", then "@<host>" (machine_name's characters) since hosts are named.
+  if (const std::size_t at = name.rfind('@'); at != std::string_view::npos) {
+    const std::string_view host = name.substr(at + 1);
+    if (host.empty() || !std::all_of(host.begin(), host.end(), host_character)) return false;
+    name = name.substr(0, at);
+  }
   const std::size_t at = name.rfind(kTempMarker);
   if (at == std::string_view::npos || at == 0) return false;
   const std::string_view rest = name.substr(at + kTempMarker.size());
@@ -92,8 +124,9 @@ bool is_atomic_temporary_name(std::string_view name) noexcept {
 
 namespace {
 
-// Whether the pid in a temporary's name ("<name>.tmp-<pid>-<n>") is a process that runs now,
-// other than this one (whose own temporaries are stale when a job starts).
+// Whether the pid in a temporary's name ("<name>.tmp-<pid>-<n>[@<host>]") is a process that
+// runs now on this machine, other than this one (whose own temporaries are stale when a job
+// starts).
 bool written_by_a_running_process(std::string_view name) noexcept {
   const std::size_t at = name.rfind(kTempMarker) + kTempMarker.size();
   long pid = 0;
@@ -105,15 +138,20 @@ bool written_by_a_running_process(std::string_view name) noexcept {
 
 }  // namespace
 
-int remove_stale_temporaries(const std::filesystem::path& dir) {
+int remove_stale_temporaries(const std::filesystem::path& dir, StaleTemporaries scope) {
   std::error_code ec;
   if (!std::filesystem::is_directory(dir, ec)) return 0;
+  const std::string here = machine_name();
+  const auto stale_one = [&](const std::string& name) {
+    if (!is_atomic_temporary_name(name)) return false;
+    const std::string_view host = host_of_temporary(name);
+    if (!host.empty() && host != here) return scope == StaleTemporaries::kOfEveryMachine;
+    return !written_by_a_running_process(name);
+  };
   std::vector<std::filesystem::path> stale;
   for (auto it = std::filesystem::recursive_directory_iterator(dir, ec); !ec && it != std::filesystem::end(it);
        it.increment(ec))
-    if (it->is_regular_file(ec) && is_atomic_temporary_name(it->path().filename().string()) &&
-        !written_by_a_running_process(it->path().filename().string()))
-      stale.push_back(it->path());
+    if (it->is_regular_file(ec) && stale_one(it->path().filename().string())) stale.push_back(it->path());
   if (ec) throw IoError(fmt::format("{}: cannot list: {}", dir.string(), ec.message()));
   for (const auto& p : stale) {
     std::filesystem::remove(p, ec);

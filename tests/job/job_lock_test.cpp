@@ -3,8 +3,13 @@
 // program against it.
 #include "trivox/job/job_lock.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -64,6 +69,68 @@ TEST(JobFolderLock, TheReserveHoldsSpaceInTheJobsLockFileAndGivesItBack) {
     EXPECT_EQ(fs::file_size(file), line);
   }
   EXPECT_TRUE(fs::is_empty(out));
+  fs::remove_all(out);
+}
+
+// A requeued scheduler task runs as the same task; a lock a file server still holds for its
+// lost predecessor (a process not running here) is taken over, and a lock of any other task,
+// or of this task's process still running on this machine, refuses the job.
+TEST(JobFolderLock, ALockStillHeldForThisTaskByAProcessNotRunningHereIsTakenOver) {
+  const fs::path out = fs::temp_directory_path() / fmt::format("trivox-job-lock-task-{}", ::getpid());
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const fs::path shard_lock = out / shard_lock_file_name(1);
+  // The lost node's lock: held by a process of this machine (the file server's view), its line
+  // naming another host.
+  const auto hold = [&](const std::string& line) {
+    int ready[2];
+    EXPECT_EQ(::pipe(ready), 0);
+    const pid_t child = ::fork();
+    if (child == 0) {
+      const int fd = ::open(shard_lock.c_str(), O_RDWR | O_CREAT | O_TRUNC, 0644);
+      ::flock(fd, LOCK_EX);
+      (void)!::write(fd, line.data(), line.size());
+      (void)!::write(ready[1], "x", 1);
+      ::pause();
+      ::_exit(0);
+    }
+    char c;
+    EXPECT_EQ(::read(ready[0], &c, 1), 1);
+    ::close(ready[0]);
+    ::close(ready[1]);
+    return child;
+  };
+  const auto stop = [](pid_t child) {
+    ::kill(child, SIGKILL);
+    ::waitpid(child, nullptr, 0);
+  };
+  ::setenv("TRIVOX_TASK_ID", "test:7_1", 1);
+  pid_t holder = hold("pid=4242 host=othernode task=test:7_1 started=2026-11-28T10:00:00Z\n");
+  {
+    const JobFolderLock lock(out, 1, 2);
+    ASSERT_TRUE(lock.taken_over_from());
+    EXPECT_NE(lock.taken_over_from()->find("host=othernode task=test:7_1"), std::string::npos);
+    std::ifstream in(shard_lock);
+    std::string line;
+    std::getline(in, line);
+    EXPECT_NE(line.find(fmt::format("pid={} host=", ::getpid())), std::string::npos) << line;
+    EXPECT_NE(line.find(" task=test:7_1 "), std::string::npos) << line;
+  }
+  stop(holder);
+  // Another task's lock, and this task's held by a live process of this machine, refuse it.
+  holder = hold("pid=4242 host=othernode task=test:7_2 started=2026-11-28T10:00:00Z\n");
+  try {
+    const JobFolderLock lock(out, 1, 2);
+    ADD_FAILURE() << "took over another task's lock";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("process 4242 on host othernode (task test:7_2)"), std::string::npos)
+        << e.what();
+  }
+  stop(holder);
+  holder = hold(fmt::format("pid={} host={} task=test:7_1 started=2026-11-28T10:00:00Z\n", ::getpid(), machine_name()));
+  EXPECT_THROW((JobFolderLock{out, 1, 2}), Error);
+  stop(holder);
+  ::unsetenv("TRIVOX_TASK_ID");
   fs::remove_all(out);
 }
 

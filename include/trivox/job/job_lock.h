@@ -7,9 +7,13 @@
 // while a whole job, or a second copy of the same shard, is refused. The locks are flock(2)
 // locks: the kernel drops them when their process ends, however it ends, so a lock file
 // left behind by a killed job holds nothing and the next job takes it over. The file holds
-// one line naming its holder, `pid=<pid> host=<host> started=<UTC time>`, for the message
-// that refuses another job; it is removed when the job ends. While the job runs, its lock file
-// also holds a reserve of disk space for the manifest of a failure (reserve_bytes).
+// one line naming its holder, `pid=<pid> host=<host> [task=<task>] started=<UTC time>`, for
+// the message that refuses another job; it is removed when the job ends. The task is the
+// scheduler's (TRIVOX_TASK_ID, else Slurm's array task `slurm:<job>_<index>` or job
+// `slurm:<job>`): a lock still held for a run of this very task that is not running here (its
+// node lost; a file server may keep such a lock for minutes) is taken over, since a scheduler
+// runs one copy of a task at a time. While the job runs, its lock file also holds a reserve of
+// disk space for the manifest of a failure (reserve_bytes).
 #pragma once
 
 #include <cstdint>
@@ -17,6 +21,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+
+#include "trivox/output/atomic_file.h"
 
 namespace trivox {
 
@@ -37,6 +43,11 @@ class JobFolderLock {
   // The holder line of a lock file this job took over from a job that ended without removing
   // it (killed, or a power cut); nullopt when the lock files were absent or empty.
   const std::optional<std::string>& taken_over_from() const noexcept;
+
+  // Whose temporaries (output/atomic_file.h) a job holding this lock may judge stale: every
+  // machine's for a whole job, which holds the folder alone; this machine's for a shard, which
+  // cannot see the processes of the other shards' machines.
+  StaleTemporaries stale_temporaries() const noexcept;
 
   // Disk space held for the manifest that records a failure: a full disk would leave no room
   // to write it. The job's own lock file (the shard's for a shard) is extended to hold

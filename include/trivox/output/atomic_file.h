@@ -2,11 +2,14 @@
 // target, is flushed and fsync'ed, and only then renamed over the target. A job killed at
 // any moment leaves either the old file, the new file, or neither under the final name -
 // never a truncated one. A process killed mid-write may leave its temporary
-// ("<name>.tmp-<pid>-<n>"); remove_stale_temporaries() clears those before a job resumes.
+// ("<name>.tmp-<pid>-<n>@<host>": its process and its machine, since the shards of one job
+// may write into one shared folder from several machines); remove_stale_temporaries() clears
+// those before a job resumes.
 #pragma once
 
 #include <cstdio>
 #include <filesystem>
+#include <string>
 #include <string_view>
 
 namespace trivox {
@@ -39,12 +42,27 @@ class AtomicFile {
 // Writes `bytes` to `path` through an AtomicFile.
 void write_file_atomic(const std::filesystem::path& path, std::string_view bytes);
 
-// True for a name AtomicFile gives its temporaries ("<name>.tmp-<digits>-<digits>").
+// True for a name AtomicFile gives its temporaries ("<name>.tmp-<digits>-<digits>", then
+// "@<host>"; earlier releases wrote no host).
 bool is_atomic_temporary_name(std::string_view file_name) noexcept;
 
-// Removes every AtomicFile temporary in `dir` and its subfolders, except those of a process
-// that still runs on this machine (the pid in the name: another shard of the job writing into
-// the same folder); returns how many it removed.
-int remove_stale_temporaries(const std::filesystem::path& dir);
+// This machine's name as temporaries and lock files record it: gethostname(), cut to 64
+// bytes, characters other than letters, digits, '.', '-' and '_' replaced by '_'.
+std::string machine_name();
+
+// Whose temporaries remove_stale_temporaries() may judge. A process on another machine cannot
+// be seen from this one, so its temporaries are removed only when no job can be writing
+// anywhere: a whole job (it holds the folder exclusively) or a merge.
+enum class StaleTemporaries {
+  kOfThisMachine,   // those of this machine whose process has ended (a shard's resume)
+  kOfEveryMachine,  // those of this machine whose process has ended, and every other machine's
+};
+
+// Removes the AtomicFile temporaries in `dir` and its subfolders that `scope` judges stale;
+// a process still running on this machine (the pid in the name: another shard of the job
+// writing into the same folder) keeps its own. A name without a host (an earlier release's)
+// counts as this machine's. Returns how many it removed.
+int remove_stale_temporaries(const std::filesystem::path& dir,
+                             StaleTemporaries scope = StaleTemporaries::kOfThisMachine);
 
 }  // namespace trivox
