@@ -32,7 +32,8 @@ cleanup() {
 trap cleanup EXIT
 
 set +e
-env_line=$(scripts/slurm_cluster.sh start "$work/cluster")
+# MaxArraySize 3: a job of 4 shards goes in as two arrays (indices 1-2 with offsets 0 and 2).
+env_line=$(TRIVOX_SLURM_MAX_ARRAY_SIZE=3 scripts/slurm_cluster.sh start "$work/cluster")
 status=$?
 set -e
 [ "$status" -eq 77 ] && exit 77
@@ -60,12 +61,12 @@ wait_for_jobs() {
   done
 }
 
-# Submits the scene in N shards into DIR; prints "ARRAY MERGE" job ids.
+# Submits the scene in N shards into DIR; prints the job ids: the merge's, then the arrays'.
 submit() {
   local scene=$1 dir=$2 shards=$3 out
   out=$("$trivox" cluster slurm "$scene" -o "$dir" --shards "$shards" -j 1 --submit) || fail "submit: $out"
   echo "$out" >&2
-  sed -n 's/^submitted the shards as job \([0-9]*\) and the merge as job \([0-9]*\) .*/\1 \2/p' <<<"$out"
+  sed -n 's/^submitted the shards as jobs\{0,1\} \(.*\) and the merge as job \([0-9]*\) .*/\2 \1/p' <<<"$out" | tr -d ','
 }
 
 # Every file of the one-process folder REF, but stats.json, is in DIR with the same bytes,
@@ -84,10 +85,12 @@ same_as_one_process() {
 scene=$(realpath examples/scenes/quick_start.json)
 "$trivox" slice "$scene" -o "$work/one" -q > /dev/null
 
-# 1. Four shards, merged and verified by the dependent job.
-read -r array merge < <(submit "$scene" "$work/four" 4)
-[ -n "${merge:-}" ] || fail "no job ids from trivox cluster slurm --submit"
-wait_for_jobs "$array" "$merge"
+# 1. Four shards in two arrays, merged and verified by the job that depends on both.
+read -r merge arrays < <(submit "$scene" "$work/four" 4)
+[ -n "${arrays:-}" ] || fail "no job ids from trivox cluster slurm --submit"
+read -r -a arrays <<<"$arrays"
+[ "${#arrays[@]}" -eq 2 ] || fail "4 shards at MaxArraySize 3 went in as ${#arrays[@]} arrays, not 2"
+wait_for_jobs "${arrays[@]}" "$merge"
 grep -q '^ok: ' "$work/four/slurm/merge-$merge.log" || fail "the merge job's verify did not say ok"
 same_as_one_process "$work/one" "$work/four"
 echo "slurm_check: 4 shards through Slurm equal one process ($(wc -l < "$work/ref.list") files) ($SECONDS s)"
@@ -95,7 +98,7 @@ echo "slurm_check: 4 shards through Slurm equal one process ($(wc -l < "$work/re
 # 2. A task signalled as before its time limit: stop, requeue, resume.
 slow=$(realpath examples/scenes/box_gradient.json)
 "$trivox" slice "$slow" -o "$work/one-slow" -q > /dev/null
-read -r array merge < <(submit "$slow" "$work/requeue" 2)
+read -r merge array < <(submit "$slow" "$work/requeue" 2)
 log="$work/requeue/slurm/shard-2.log"
 deadline=$((SECONDS + 60))
 until grep -q 'sliced [0-9]*/[0-9]* layers ([1-9][0-9]*%)' "$log" 2>/dev/null; do

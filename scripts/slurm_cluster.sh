@@ -9,6 +9,7 @@
 #                                        `export SLURM_CONF=...` line the clients need
 #   scripts/slurm_cluster.sh stop DIR    stops the daemons DIR/*.pid name
 #
+# TRIVOX_SLURM_MAX_ARRAY_SIZE sets the cluster's MaxArraySize (default Slurm's 1001).
 # Needs root (SlurmUser=root; munged runs as the user who starts it, with --force) and the
 # packages slurm-wlm and munge (scripts/install-deps.sh --slurm). The ports are chosen free
 # at start. Exit status 77 (skip) when the packages or root are missing.
@@ -94,7 +95,7 @@ SchedulerType=sched/backfill
 SelectType=select/cons_tres
 SelectTypeParameters=CR_Core_Memory
 ReturnToService=2
-MaxArraySize=1001
+MaxArraySize=${TRIVOX_SLURM_MAX_ARRAY_SIZE:-1001}
 KillWait=30
 SlurmdTimeout=60
 MinJobAge=600

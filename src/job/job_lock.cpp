@@ -85,6 +85,10 @@ std::string this_task() {
   if (task.empty() && !env("SLURM_ARRAY_JOB_ID").empty() && !env("SLURM_ARRAY_TASK_ID").empty())
     task = "slurm:" + env("SLURM_ARRAY_JOB_ID") + "_" + env("SLURM_ARRAY_TASK_ID");
   if (task.empty() && !env("SLURM_JOB_ID").empty()) task = "slurm:" + env("SLURM_JOB_ID");
+  // Within an srun step, each process of it: two processes of one job are two tasks, while a
+  // requeued job numbers its steps and processes again from 0.
+  if (task.starts_with("slurm:") && !env("SLURM_STEP_ID").empty())
+    task += fmt::format(".{}.{}", env("SLURM_STEP_ID"), env("SLURM_PROCID").empty() ? "0" : env("SLURM_PROCID"));
   for (char& c : task)
     if (std::isspace(static_cast<unsigned char>(c))) c = '_';
   return task.substr(0, 128);

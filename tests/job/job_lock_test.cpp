@@ -134,5 +134,36 @@ TEST(JobFolderLock, ALockStillHeldForThisTaskByAProcessNotRunningHereIsTakenOver
   fs::remove_all(out);
 }
 
+// The task a lock line names: Slurm's array task, then within an srun step its process.
+TEST(JobFolderLock, TheLockLineNamesSlurmsTaskAndProcess) {
+  const fs::path out = fs::temp_directory_path() / fmt::format("trivox-job-lock-slurm-{}", ::getpid());
+  fs::remove_all(out);
+  const auto line_of = [&] {
+    const JobFolderLock lock(out, 2, 4);
+    std::ifstream in(out / shard_lock_file_name(2));
+    std::string line;
+    std::getline(in, line);
+    return line;
+  };
+  const auto clear = [] {
+    for (const char* name : {"SLURM_JOB_ID", "SLURM_ARRAY_JOB_ID", "SLURM_ARRAY_TASK_ID", "SLURM_STEP_ID",
+                             "SLURM_PROCID", "TRIVOX_TASK_ID"})
+      ::unsetenv(name);
+  };
+  clear();
+  EXPECT_EQ(line_of().find(" task="), std::string::npos);  // no scheduler: no task
+  ::setenv("SLURM_JOB_ID", "41", 1);
+  ::setenv("SLURM_ARRAY_JOB_ID", "40", 1);
+  ::setenv("SLURM_ARRAY_TASK_ID", "2", 1);
+  EXPECT_NE(line_of().find(" task=slurm:40_2 started="), std::string::npos) << line_of();
+  ::setenv("SLURM_STEP_ID", "0", 1);
+  ::setenv("SLURM_PROCID", "3", 1);
+  EXPECT_NE(line_of().find(" task=slurm:40_2.0.3 started="), std::string::npos) << line_of();
+  ::setenv("TRIVOX_TASK_ID", "k8s:job-1", 1);
+  EXPECT_NE(line_of().find(" task=k8s:job-1 started="), std::string::npos) << line_of();
+  clear();
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace trivox

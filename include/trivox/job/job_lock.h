@@ -10,10 +10,10 @@
 // one line naming its holder, `pid=<pid> host=<host> [task=<task>] started=<UTC time>`, for
 // the message that refuses another job; it is removed when the job ends. The task is the
 // scheduler's (TRIVOX_TASK_ID, else Slurm's array task `slurm:<job>_<index>` or job
-// `slurm:<job>`): a lock still held for a run of this very task that is not running here (its
-// node lost; a file server may keep such a lock for minutes) is taken over, since a scheduler
-// runs one copy of a task at a time. While the job runs, its lock file also holds a reserve of
-// disk space for the manifest of a failure (reserve_bytes).
+// `slurm:<job>`, followed by `.<step>.<process>` inside an srun step): a lock still held for a run of this very task
+// that is not running here (its node lost; a file server may keep such a lock for minutes) is taken over, since a
+// scheduler runs one copy of a task at a time. While the job runs, its lock file also holds a reserve of disk space for
+// the manifest of a failure (reserve_bytes).
 #pragma once
 
 #include <cstdint>
