@@ -165,6 +165,9 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
       c.time_minutes > 0 ? c.time_minutes : std::max(10, static_cast<int>(std::ceil(e.seconds * 3 / 60)) + 5);
   p.job_name = "trivox-" + fs::path(o.scene).stem().string();
 
+  // The arrays, before anything is written: a job that needs too many is refused whole.
+  const int max_array = c.submit ? max_array_size_of_cluster(c.max_array_size) : c.max_array_size;
+  const std::vector<SlurmArrayPart> parts = slurm_array_parts(c.shards, max_array);
   fs::create_directories(dir / "slurm", ec);
   if (ec) throw IoError(fmt::format("{}: cannot create: {}", (dir / "slurm").string(), ec.message()));
   const fs::path shards_script = dir / "slurm" / "shards.sbatch", merge_script = dir / "slurm" / "merge.sbatch";
@@ -180,8 +183,6 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
         "a one-node cluster; docs/CLUSTER.md, \"The output folder\")\n",
         dir.string(), fs_name);
 
-  const int max_array = c.submit ? max_array_size_of_cluster(c.max_array_size) : c.max_array_size;
-  const std::vector<SlurmArrayPart> parts = slurm_array_parts(c.shards, max_array);
   if (!c.submit) {
     fmt::print("submit with:\n");
     for (std::size_t i = 0; i < parts.size(); ++i)

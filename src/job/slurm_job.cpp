@@ -28,6 +28,10 @@ std::vector<SlurmArrayPart> slurm_array_parts(int shards, int max_array_size) {
   if (max_array_size < 2) throw Error(fmt::format("MaxArraySize {} leaves no array index", max_array_size));
   std::vector<SlurmArrayPart> parts;
   const int per_part = max_array_size - 1;  // indices 1 .. MaxArraySize - 1
+  // Each part is a submission (and a line to print): a thousand is far beyond any real job.
+  if (const int arrays = (shards + per_part - 1) / per_part; arrays > 1000)
+    throw Error(fmt::format("{} shards at MaxArraySize {} need {} arrays; at most 1000 are submitted", shards,
+                            max_array_size, arrays));
   for (int offset = 0; offset < shards; offset += per_part)
     parts.push_back({offset, std::min(per_part, shards - offset)});
   return parts;

@@ -37,6 +37,8 @@ TEST(SlurmJob, ArrayPartsCoverEveryShardOnceWithIndicesBelowMaxArraySize) {
   EXPECT_EQ(parts_of(5, 2), (V{{0, 1}, {1, 1}, {2, 1}, {3, 1}, {4, 1}}));
   EXPECT_THROW(slurm_array_parts(0, 1001), Error);
   EXPECT_THROW(slurm_array_parts(4, 1), Error);
+  EXPECT_EQ(slurm_array_parts(1000, 2).size(), 1000u);
+  EXPECT_THROW(slurm_array_parts(1000000, 2), Error);  // a million submissions
 }
 
 // What bash makes of `word` quoted by shell_word.

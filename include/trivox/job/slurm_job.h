@@ -33,7 +33,8 @@ struct SlurmArrayPart {
   int offset = 0, count = 0;
 };
 // The arrays that cover `shards` when an array index must stay below `max_array_size`
-// (Slurm's MaxArraySize, 1001 by default): ceil(shards / (max_array_size - 1)) parts.
+// (Slurm's MaxArraySize, 1001 by default): ceil(shards / (max_array_size - 1)) parts; throws
+// Error when that is more than 1000.
 std::vector<SlurmArrayPart> slurm_array_parts(int shards, int max_array_size);
 
 // The shard task's batch script. Its first argument is the part's offset (0 for the first
