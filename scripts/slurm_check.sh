@@ -2,10 +2,11 @@
 # The cluster path on a real Slurm (docs/CLUSTER.md), on a one-node cluster started here
 # (scripts/slurm_cluster.sh; its daemons stopped by pid at the end, however the check ends):
 #
-#   1. `trivox cluster slurm --submit` of a bundled scene in 4 shards: the array, then merge
-#      and verify; every file of the merged folder, manifest.json included, is byte-identical
-#      to a one-process run's (stats.json and the shards' stats.shard-I-of-N.json describe each
-#      run's own work and are left out);
+#   1. `trivox cluster slurm --submit` of a bundled scene in 4 shards, as Voxel Print PNGs and
+#      a GrabCAD package (a stack format: the shards keep their layers, the merge job writes
+#      it): the array, then merge and verify; every file of the merged folder, manifest.json
+#      and the package included, is byte-identical to a one-process run's (stats.json and the
+#      shards' stats.shard-I-of-N.json describe each run's own work and are left out);
 #   2. a shard task signalled mid-job as Slurm signals one before its time limit (USR1): it
 #      stops after its layers in progress, requeues itself, and its rerun resumes the shard;
 #      the folder is again byte-identical to one process's;
@@ -61,10 +62,12 @@ wait_for_jobs() {
   done
 }
 
-# Submits the scene in N shards into DIR; prints the job ids: the merge's, then the arrays'.
+# Submits the scene in N shards into DIR, with further job options; prints the job ids: the
+# merge's, then the arrays'.
 submit() {
   local scene=$1 dir=$2 shards=$3 out
-  out=$("$trivox" cluster slurm "$scene" -o "$dir" --shards "$shards" -j 1 --submit) || fail "submit: $out"
+  shift 3
+  out=$("$trivox" cluster slurm "$scene" -o "$dir" --shards "$shards" -j 1 "$@" --submit) || fail "submit: $out"
   echo "$out" >&2
   sed -n 's/^submitted the shards as jobs\{0,1\} \(.*\) and the merge as job \([0-9]*\) .*/\2 \1/p' <<<"$out" | tr -d ','
 }
@@ -83,16 +86,18 @@ same_as_one_process() {
 }
 
 scene=$(realpath examples/scenes/quick_start.json)
-"$trivox" slice "$scene" -o "$work/one" -q > /dev/null
+"$trivox" slice "$scene" -o "$work/one" -q --format voxelprint gcvf > /dev/null
 
-# 1. Four shards in two arrays, merged and verified by the job that depends on both.
-read -r merge arrays < <(submit "$scene" "$work/four" 4)
+# 1. Four shards in two arrays, merged (the package written) and verified by the job that
+# depends on both.
+read -r merge arrays < <(submit "$scene" "$work/four" 4 --format voxelprint gcvf)
 [ -n "${arrays:-}" ] || fail "no job ids from trivox cluster slurm --submit"
 read -r -a arrays <<<"$arrays"
 [ "${#arrays[@]}" -eq 2 ] || fail "4 shards at MaxArraySize 3 went in as ${#arrays[@]} arrays, not 2"
 wait_for_jobs "${arrays[@]}" "$merge"
 grep -q '^ok: ' "$work/four/slurm/merge-$merge.log" || fail "the merge job's verify did not say ok"
 same_as_one_process "$work/one" "$work/four"
+[ -f "$work/four/gcvf/stack.gcvf" ] && [ ! -e "$work/four/stack_parts" ] || fail "no package, or stack parts left"
 echo "slurm_check: 4 shards through Slurm equal one process ($(wc -l < "$work/ref.list") files) ($SECONDS s)"
 
 # 2. A task signalled as before its time limit: stop, requeue, resume.

@@ -24,6 +24,7 @@
 #include "stop_signal.h"
 #include "trivox/error.h"
 #include "trivox/job/job_estimate.h"
+#include "trivox/job/job_folder.h"
 #include "trivox/job/job_lock.h"
 #include "trivox/job/manifest.h"
 #include "trivox/job/slice_job.h"
@@ -119,21 +120,9 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
   const JobOptions& o = c.job;
   if (!o.shard.empty()) throw UsageError("--shard is set by the scripts: give the number of shards with --shards");
   JobParams job = job_params_of(o);
-  for (const std::string& f : job.formats)
-    if (is_stack_format(f))
-      throw UsageError(fmt::format(
-          "--format {}: a stack format is written by one process from every layer, so a sharded job cannot write "
-          "it; slice the per-layer formats on the cluster (voxelprint, bitmaps, legacy, greyscale)",
-          f));
   const fs::path dir = fs::absolute(o.output).lexically_normal();
   if (auto problem = output_folder_problem(dir)) throw IoError(std::move(*problem));
-  std::error_code ec;
-  const bool has_job = fs::exists(dir / "manifest.json", ec) || [&] {
-    for (const auto& e : fs::directory_iterator(dir, ec))
-      if (e.path().filename().string().starts_with("manifest.shard-")) return true;
-    return false;
-  }();
-  if (has_job)
+  if (holds_job(dir))
     throw Error(fmt::format(
         "{}: the folder holds a job already (its manifests): slice into another folder; to rerun shards of that "
         "job, submit its own script again (docs/CLUSTER.md, \"When a shard fails\")",
@@ -148,6 +137,7 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
   check_job_settings(slicer, job);  // what a shard would refuse, refused before anything is submitted
   const JobEstimate e = estimate_job(slicer, job, EstimateParams{1});
   SlurmJobParams p;
+  std::error_code ec;
   p.program = fs::read_symlink("/proc/self/exe", ec);
   if (ec) throw IoError(fmt::format("cannot find this program's path: {}", ec.message()));
   p.scene = fs::absolute(o.scene).lexically_normal();
@@ -164,6 +154,17 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
   p.time_minutes =
       c.time_minutes > 0 ? c.time_minutes : std::max(10, static_cast<int>(std::ceil(e.seconds * 3 / 60)) + 5);
   p.job_name = "trivox-" + fs::path(o.scene).stem().string();
+  // Stack outputs are written after the merge by the whole job's resume, from the layers the
+  // shards kept: its memory is the whole job's (a stack writer's grids, for one).
+  p.stack_outputs = !job.preview_layers.empty() || std::any_of(job.formats.begin(), job.formats.end(),
+                                                               [](const auto& f) { return is_stack_format(f); });
+  if (p.stack_outputs) {
+    JobParams whole = job;
+    whole.shard_count = 1;
+    const JobEstimate w = estimate_job(slicer, whole, EstimateParams{1});
+    p.merge_memory_mb =
+        static_cast<std::uint64_t>(std::ceil(static_cast<double>(w.peak_memory_bytes) * 1.25 / 1e6)) + 256;
+  }
 
   // The arrays, before anything is written: a job that needs too many is refused whole.
   const int max_array = c.submit ? max_array_size_of_cluster(c.max_array_size) : c.max_array_size;

@@ -20,6 +20,7 @@ void add_merge_command(CLI::App& app) {
     const JobManifest m = merge_shards(*dir, stop_on_signals());
     fmt::print("merged the shards: {} layers, {} files; manifest: {}\n", m.total_layers, m.files.size(),
                (std::filesystem::path(*dir) / "manifest.json").string());
+    if (m.status != JobStatus::kComplete) fmt::print("{}\n", m.message);
   });
 }
 

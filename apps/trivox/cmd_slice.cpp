@@ -180,6 +180,11 @@ void run(const SliceOptions& so) {
   const JobParams& job = slice_job.params().job;
   if (const auto holder = slice_job.lock_taken_over_from(); holder && !so.quiet)
     fmt::print(stderr, "trivox: note: took over the lock of a job that ended without releasing it ({})\n", *holder);
+  if (slice_job.locked_by_files() && !so.quiet)
+    fmt::print(stderr,
+               "trivox: note: {} is locked by its lock files alone: its file system has no flock locks, or "
+               "TRIVOX_LOCKS=files (docs/CLUSTER.md, \"Locks\")\n",
+               job.output_dir.string());
 
   const Scene scene = read_scene_of(so, slice_job);
   warn_about_printer(scene);

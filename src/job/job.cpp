@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <mutex>
 #include <optional>
 
@@ -19,6 +18,7 @@
 #include "trivox/job/printed_extent.h"
 #include "trivox/output/atomic_file.h"
 #include "trivox/output/detail/material_sheet.h"
+#include "trivox/output/detail/stack_parts.h"
 #include "trivox/output/layer_writer.h"
 #include "trivox/parallel.h"
 #include "trivox/version.h"
@@ -33,25 +33,6 @@ std::string rgba_text(const std::array<std::uint8_t, 4>& c) {
 
 // A file name relative to the output folder with '/' separators on every system.
 std::string relative_name(const std::string& name) { return std::filesystem::path(name).generic_string(); }
-
-// Layers of `previous` whose files all exist with their recorded size and SHA-256.
-std::vector<ManifestFile> intact_files(const std::filesystem::path& dir, const JobManifest& previous) {
-  std::map<int, std::vector<ManifestFile>> by_layer;
-  for (const ManifestFile& f : previous.files)
-    if (f.layer > 0) by_layer[f.layer].push_back(f);  // stack files (layer 0) are rewritten at the end
-  std::vector<ManifestFile> kept;
-  for (auto& [layer, files] : by_layer) {
-    const bool intact = std::all_of(files.begin(), files.end(), [&](const ManifestFile& f) {
-      std::error_code ec;
-      const auto path = dir / f.name;
-      if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != f.bytes || ec)
-        return false;
-      return sha256_file(path).sha256 == f.sha256;
-    });
-    if (intact) kept.insert(kept.end(), files.begin(), files.end());
-  }
-  return kept;
-}
 
 }  // namespace
 
@@ -266,9 +247,10 @@ class JobRun {
   const std::string sheet_name_ = "materials.csv";
   JobManifest manifest_;
   JobStats stats_;
-  std::vector<char> kept_;    // per job layer: kept from the previous run
-  std::vector<int> pending_;  // job layers this run slices
-  std::vector<int> refeed_;   // kept layers sliced again for the stack writers
+  std::vector<char> kept_;                       // per job layer: kept from the previous run
+  std::vector<int> pending_;                     // job layers this run slices
+  std::vector<int> refeed_;                      // kept layers fed again to the stack writers
+  std::vector<std::vector<std::string>> parts_;  // per job layer: the stack parts a merge of shards kept
   std::vector<std::unique_ptr<LayerWriter>> writers_;
   bool any_stack_ = false;
   // Guards the manifest, the file list, the stats and the progress count, which change
@@ -302,7 +284,7 @@ void JobRun::open_folder() {
   manifest_ = job_manifest(slicer_, params_);
   if (params_.resume && std::filesystem::exists(manifest_path_, ec)) {
     const JobManifest previous = read_manifest(manifest_path_);
-    std::vector<ManifestFile> intact = intact_files(params_.output_dir, previous);
+    std::vector<ManifestFile> intact = detail::intact_files(params_.output_dir, previous);
     // A scene corrected since (after a job stopped at a bad sum) is fine if the correction
     // cannot change the layers kept (manifest.h).
     const std::vector<std::string> diffs = resume_differences(previous, manifest_, detail::layers_of(intact));
@@ -317,6 +299,7 @@ void JobRun::open_folder() {
   const int total = range_.total();
   kept_.assign(static_cast<std::size_t>(total), 0);
   for (const ManifestFile& f : manifest_.files) kept_[static_cast<std::size_t>(f.layer - 1)] = 1;  // layers >= 1 only
+  parts_ = detail::stack_parts_by_layer(manifest_.files, total);
   for (int index = 0; index < total; ++index)
     if (shard_has_layer(index, params_.shard_index, params_.shard_count) && !kept_[static_cast<std::size_t>(index)])
       pending_.push_back(index);
@@ -328,19 +311,16 @@ void JobRun::open_folder() {
 
 void JobRun::make_writers() {
   const OutputContext ctx = detail::job_output_context(slicer_, params_, params_.output_dir);
-  for (const std::string& f : params_.formats) writers_.push_back(make_layer_writer(f, ctx));
+  writers_ = detail::job_format_writers(ctx, params_);
   if (!params_.preview_layers.empty()) {
     std::vector<std::pair<int, int>> chosen;
     for (int layer : params_.preview_layers) chosen.emplace_back(layer - range_.first, layer + 1);
     writers_.push_back(make_layer_preview_writer(ctx, std::move(chosen)));
   }
   any_stack_ = std::any_of(writers_.begin(), writers_.end(), [](const auto& w) { return w->needs_whole_stack(); });
-  if (any_stack_ && params_.shard_count > 1)
-    throw Error(
-        "the stack formats (preview, tiff, vdb, gcvf, sl1, sl1s) need every layer of the job in one run: slice "
-        "them without --shard");
-  // Stack writers see every model layer; those a resumed job keeps are sliced again for them
-  // (the same labels, since a layer depends only on the scene, settings and its index).
+  // Stack writers see every model layer; those a resumed job keeps come from their stack
+  // parts (after a merge of shards) or are sliced again (the same labels, since a layer
+  // depends only on the scene, settings and its index).
   if (any_stack_)
     for (int index = 0; index < range_.total(); ++index)
       if (kept_[static_cast<std::size_t>(index)]) refeed_.push_back(index);
@@ -378,6 +358,12 @@ void JobRun::slice_and_write(std::size_t t) {
   const bool refed = t >= pending_.size();
   const int index = refed ? refeed_[t - pending_.size()] : pending_[t];
   const SliceLayout& L = slicer_.layout();
+  if (refed && !parts_[static_cast<std::size_t>(index)].empty()) {
+    const detail::StackPart part = detail::read_stack_part(params_.output_dir, parts_[static_cast<std::size_t>(index)],
+                                                           L.width_px, L.height_px, slicer_.scene().num_materials());
+    write_layer(index, part.labels, part.grey, true);
+    return;
+  }
   if (index >= range_.count) {  // a padding layer
     const LabelImage empty(L.width_px, L.height_px, LabelImage::kVoid);
     std::vector<std::string> written = write_layer(index, empty, GreyImage(), refed);
@@ -471,6 +457,9 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
     manifest_.sort_files();
     std::sort(stats_.files.begin(), stats_.files.end());
     manifest_.status = JobStatus::kComplete;
+    // The stack outputs are written: the parts they were made from go, after the manifest
+    // that no longer lists them.
+    if (any_stack_) detail::take_stack_parts(manifest_.files);
   } else {
     manifest_.status = JobStatus::kInterrupted;
     manifest_.message = fmt::format("stopped after {} of {} layers; continue with --resume", done_, pending_.size());
@@ -478,6 +467,9 @@ JobStats JobRun::finish(std::chrono::steady_clock::time_point start) {
   }
   write_manifest(manifest_path_, manifest_);
   manifest_written_ = true;
+  const bool had_parts = std::any_of(parts_.begin(), parts_.end(), [](const auto& p) { return !p.empty(); });
+  if (any_stack_ && had_parts && manifest_.status == JobStatus::kComplete)
+    detail::remove_stack_parts(params_.output_dir);
   stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   stats_.total = sum_layer_stats(stats_.layers, static_cast<std::size_t>(slicer_.scene().num_materials()),
                                  slicer_.scene().cells.size());

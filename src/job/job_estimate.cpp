@@ -152,8 +152,7 @@ JobEstimate estimate_job_in(const Slicer& slicer, const JobParams& params, const
     throw IoError(fmt::format("{}: cannot create a scratch folder for the estimate there: {}",
                               scratch.parent_path().string(), ec.message()));
   const OutputContext ctx = detail::job_output_context(slicer, params, scratch);
-  std::vector<std::unique_ptr<LayerWriter>> writers;
-  for (const std::string& f : params.formats) writers.push_back(make_layer_writer(f, ctx));
+  const std::vector<std::unique_ptr<LayerWriter>> writers = detail::job_format_writers(ctx, params);
 
   auto encode = [&](int index, const LayerResult& layer) {
     std::uint64_t bytes = 0;

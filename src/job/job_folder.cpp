@@ -16,6 +16,7 @@
 #include "trivox/job/job_lock.h"
 #include "trivox/output/detail/bmp_image.h"
 #include "trivox/output/detail/gcvf_package.h"
+#include "trivox/output/detail/stack_parts.h"
 #include "trivox/output/detail/tiff_stack.h"
 #include "trivox/output/detail/vdb_stack.h"
 #include "trivox/output/layer_writer.h"
@@ -210,7 +211,34 @@ std::string missing_shards_message(const std::filesystem::path& dir, const std::
   return message;
 }
 
+// What a merged job with stack parts still needs, and the command that does it.
+std::string stack_outputs_to_write_message(const std::filesystem::path& dir, const JobManifest& m) {
+  std::vector<std::string> stacks;
+  for (const std::string& format : manifest_formats(m))
+    if (is_stack_format(format)) stacks.push_back(format);
+  std::string scene = "SCENE";
+  for (const ManifestInput& in : m.inputs)
+    if (in.role == "scene") scene = in.name;
+  if (stacks.empty()) stacks.emplace_back("the stack outputs");
+  const std::string last = stacks.back();
+  stacks.pop_back();
+  return fmt::format(
+      "the shards' layers are merged; {}{} {} still to be written from the layers they kept: run `trivox slice {} -o "
+      "{} "
+      "--resume` with the shards' options",
+      stacks.empty() ? "" : fmt::format("{} and ", fmt::join(stacks, ", ")), last, stacks.empty() ? "is" : "are", scene,
+      dir.string());
+}
+
 }  // namespace
+
+bool holds_job(const std::filesystem::path& dir) {
+  std::error_code ec;
+  if (std::filesystem::exists(dir / manifest_file_name(1, 1), ec)) return true;
+  for (auto it = std::filesystem::directory_iterator(dir, ec); !ec && it != std::filesystem::end(it); it.increment(ec))
+    if (shard_of_name(it->path().filename().string())) return true;
+  return false;
+}
 
 JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<bool>* stop) {
   int count = 0;
@@ -275,6 +303,13 @@ JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<boo
   merged.shard_count = 1;
   merged.status = JobStatus::kComplete;
   merged.message.clear();
+  if (std::any_of(merged.files.begin(), merged.files.end(),
+                  [](const ManifestFile& f) { return detail::is_stack_part(f.name); })) {
+    // The stack outputs are made from every layer in one process: the whole job's resume
+    // writes them from the parts the shards kept.
+    merged.status = JobStatus::kInterrupted;
+    merged.message = stack_outputs_to_write_message(dir, merged);
+  }
   merged.sort_files();
   write_manifest(dir / manifest_file_name(1, 1), merged);
   for (const auto& [index, path] : shards) {

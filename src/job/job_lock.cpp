@@ -11,7 +11,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <system_error>
 #include <vector>
 
@@ -111,7 +114,45 @@ bool earlier_run_of_this_task(const std::string& line) {
   if (task.empty() || h.task != task) return false;
   if (h.host != machine_name()) return true;
   const long pid = std::atol(h.pid.c_str());
-  return pid > 0 && pid != static_cast<long>(::getpid()) && ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+  return pid > 0 && pid != static_cast<long>(::getpid()) && !process_runs_here(pid);
+}
+
+// Without flock (below): whether the job a lock file's line names has ended - a process of
+// this machine that no longer runs, or an earlier run of this process's own task. A holder
+// on another machine, or a line not written yet, counts as running.
+bool holder_gone(const std::string& line) {
+  if (earlier_run_of_this_task(line)) return true;
+  const Holder h = holder_of(line);
+  if (h.pid.empty() || h.host != machine_name()) return false;
+  const long pid = std::atol(h.pid.c_str());
+  return pid > 0 && pid != static_cast<long>(::getpid()) && !process_runs_here(pid);
+}
+
+// flock(2) answered that the file system has no such locks (ENOLCK: an NFS mount whose lock
+// service cannot be reached; EOPNOTSUPP, ENOSYS: some FUSE and parallel file systems).
+struct NoFlock {};
+
+// TRIVOX_LOCKS=files: lock by the lock files alone, also where flock works.
+bool locks_by_files_asked() {
+  const char* value = std::getenv("TRIVOX_LOCKS");
+  return value != nullptr && std::string_view(value) == "files";
+}
+
+// Without flock, a lock is its file: created with O_EXCL, held while it exists with the line
+// of a job that runs. A file whose holder has ended is removed (its line returned in
+// `taken_over`) and created again. Returns the descriptor, or -1 when a running job holds it.
+int try_lock_by_file(const std::filesystem::path& path, std::optional<std::string>& taken_over) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd >= 0) return fd;
+    if (errno != EEXIST)
+      throw IoError(fmt::format("{}: cannot create the lock file: {}", path.string(), errno_text(errno)));
+    const std::string line = holder_line(path);
+    if (!holder_gone(line)) return -1;
+    taken_over = line;
+    ::unlink(path.c_str());
+  }
+  return -1;
 }
 
 // The lock file opened without its lock, for a job that takes over from an earlier run of its
@@ -128,12 +169,23 @@ int open_unlocked(const std::filesystem::path& path) {
 // otherwise the lock was taken on a file just removed, and the loop opens the new one.
 int try_lock(const std::filesystem::path& path, int mode) {
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    // Created here or found: a file created only to find that flock fails is removed again,
+    // so that the lock files that replace flock then (take_lock_files) start from none.
+    bool created = true;
+    int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0 && errno == EEXIST) {
+      created = false;
+      fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    }
     if (fd < 0) throw IoError(fmt::format("{}: cannot create the lock file: {}", path.string(), errno_text(errno)));
     if (::flock(fd, mode | LOCK_NB) != 0) {
       const int error = errno;
       ::close(fd);
       if (error == EWOULDBLOCK) return -1;
+      if (error == ENOLCK || error == EOPNOTSUPP || error == ENOSYS) {
+        if (created) ::unlink(path.c_str());
+        throw NoFlock{};
+      }
       throw IoError(fmt::format("{}: cannot lock: {}", path.string(), errno_text(error)));
     }
     struct stat held {
@@ -162,21 +214,37 @@ void release(int fd, const std::filesystem::path& path, bool exclusive) {
   ::close(fd);
 }
 
-// The shards of `dir` whose lock is held now, as "shard I (process ...)".
-std::vector<std::string> running_shards(const std::filesystem::path& dir) {
-  std::vector<std::string> shards;
+// The shards of `dir` whose lock is held now, as "shard I (process ...)", one holders text:
+// `held` gives a shard lock file's holder line while it is held, nullopt when it is not.
+std::string shards_held(const std::filesystem::path& dir,
+                        const std::function<std::optional<std::string>(const std::filesystem::path&)>& held) {
+  std::string holders;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
     if (!name.starts_with(".trivox-shard-") || !name.ends_with(".lock")) continue;
-    const int fd = ::open(entry.path().c_str(), O_RDONLY | O_CLOEXEC);
-    if (fd < 0) continue;
-    if (::flock(fd, LOCK_SH | LOCK_NB) != 0)
-      shards.push_back(
-          fmt::format("shard {} ({})", name.substr(14, name.size() - 14 - 5), holder_text(holder_line(fd))));
-    ::close(fd);
+    if (const std::optional<std::string> line = held(entry.path()))
+      holders += fmt::format("{}shard {} ({})", holders.empty() ? "" : ", ", name.substr(14, name.size() - 14 - 5),
+                             holder_text(*line));
   }
-  return shards;
+  return holders;
+}
+
+// With flock: a shard lock file is held while a process holds its lock.
+std::optional<std::string> flock_held(const std::filesystem::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  std::optional<std::string> line;
+  if (::flock(fd, LOCK_SH | LOCK_NB) != 0) line = holder_line(fd);
+  ::close(fd);
+  return line;
+}
+
+// Without flock: a shard lock file is held while its line names a job that runs.
+std::optional<std::string> file_held(const std::filesystem::path& path) {
+  std::string line = holder_line(path);
+  if (holder_gone(line)) return std::nullopt;
+  return line;
 }
 
 [[noreturn]] void refuse(const std::filesystem::path& dir, const std::filesystem::path& lock_file,
@@ -223,8 +291,12 @@ struct JobFolderLock::Held {
   int folder_fd = -1;  // .trivox.lock
   int shard_fd = -1;   // .trivox-shard-I.lock, shards only
   std::optional<std::string> taken_over_from{};
+  bool by_files = false;         // locked by the lock files alone (no flock on this file system)
   std::uint64_t line_bytes = 0;  // the holder line at the start of the job's own lock file
   std::uint64_t reserved = 0;    // bytes held after it
+
+  void take_flocks();      // throws NoFlock when the file system has no flock locks
+  void take_lock_files();  // without flock (locked_by_files)
 };
 
 JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, int shard_count)
@@ -234,6 +306,20 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
   std::error_code ec;
   std::filesystem::create_directories(h.dir, ec);
   if (ec) throw IoError(fmt::format("{}: cannot create output folder: {}", h.dir.string(), ec.message()));
+  if (!locks_by_files_asked()) {
+    try {
+      h.take_flocks();
+      return;
+    } catch (const NoFlock&) {
+      h.folder_fd = h.shard_fd = -1;  // (released by take_flocks)
+    }
+  }
+  h.by_files = true;
+  h.take_lock_files();
+}
+
+void JobFolderLock::Held::take_flocks() {
+  Held& h = *this;
   const std::filesystem::path folder_lock = h.dir / job_lock_file_name();
   const bool sharded = h.shard_count > 1;
   h.folder_fd = try_lock(folder_lock, sharded ? LOCK_SH : LOCK_EX);
@@ -241,10 +327,8 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
     h.folder_fd = open_unlocked(folder_lock);
   if (h.folder_fd < 0) {
     // A whole job holds it (its line is in the file), or running shards hold it shared.
-    const std::vector<std::string> shards = running_shards(h.dir);
-    std::string holders = shards.empty() ? holder_text(holder_line(folder_lock)) : std::string();
-    for (const std::string& s : shards) holders += (holders.empty() ? "" : ", ") + s;
-    refuse(h.dir, folder_lock, holders);
+    const std::string shards = shards_held(h.dir, flock_held);
+    refuse(h.dir, folder_lock, shards.empty() ? holder_text(holder_line(folder_lock)) : shards);
   }
   if (!sharded) {
     const std::string previous = holder_line(h.folder_fd);
@@ -280,6 +364,39 @@ JobFolderLock::JobFolderLock(const std::filesystem::path& dir, int shard_index, 
   }
 }
 
+void JobFolderLock::Held::take_lock_files() {
+  Held& h = *this;
+  const std::filesystem::path folder_lock = h.dir / job_lock_file_name();
+  const std::filesystem::path shard_lock = h.dir / shard_lock_file_name(h.shard_index);
+  const bool sharded = h.shard_count > 1;
+  // A whole job holds the folder's file; a shard its own, and is refused while a whole job's
+  // file names a job that runs. Shards do not share the folder's file: a file cannot be held
+  // shared, so a whole job looks for the shards' files instead.
+  const std::filesystem::path own = sharded ? shard_lock : folder_lock;
+  if (sharded) {
+    std::error_code ec;
+    if (std::filesystem::exists(folder_lock, ec) && !holder_gone(holder_line(folder_lock)))
+      refuse(h.dir, folder_lock, holder_text(holder_line(folder_lock)));
+  }
+  int& fd = sharded ? h.shard_fd : h.folder_fd;
+  fd = try_lock_by_file(own, h.taken_over_from);
+  if (fd < 0) refuse(h.dir, own, holder_text(holder_line(own)));
+  if (!sharded) {
+    if (const std::string holders = shards_held(h.dir, file_held); !holders.empty()) {
+      release(fd, own, true);
+      fd = -1;
+      refuse(h.dir, folder_lock, holders);
+    }
+  }
+  try {
+    h.line_bytes = write_holder(fd, own);
+  } catch (...) {
+    release(fd, own, true);
+    fd = -1;
+    throw;
+  }
+}
+
 bool JobFolderLock::reserve_bytes(std::uint64_t bytes) {
   Held& h = *held_;
   const int fd = h.shard_fd >= 0 ? h.shard_fd : h.folder_fd;
@@ -306,6 +423,7 @@ const std::filesystem::path& JobFolderLock::dir() const noexcept { return held_-
 int JobFolderLock::shard_index() const noexcept { return held_->shard_index; }
 int JobFolderLock::shard_count() const noexcept { return held_->shard_count; }
 const std::optional<std::string>& JobFolderLock::taken_over_from() const noexcept { return held_->taken_over_from; }
+bool JobFolderLock::locked_by_files() const noexcept { return held_->by_files; }
 StaleTemporaries JobFolderLock::stale_temporaries() const noexcept {
   return held_->shard_count > 1 ? StaleTemporaries::kOfThisMachine : StaleTemporaries::kOfEveryMachine;
 }

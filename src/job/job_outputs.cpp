@@ -2,6 +2,8 @@
 
 #include "job_parts.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstring>
 
@@ -9,6 +11,8 @@
 #include <fmt/ranges.h>
 
 #include "trivox/error.h"
+#include "trivox/output/atomic_file.h"
+#include "trivox/output/detail/stack_parts.h"
 #include "trivox/output/display_colours.h"
 
 namespace trivox {
@@ -107,6 +111,37 @@ OutputContext job_output_context(const Slicer& slicer, const JobParams& params, 
   return ctx;
 }
 
+std::vector<std::unique_ptr<LayerWriter>> job_format_writers(const OutputContext& context, const JobParams& params) {
+  std::vector<std::unique_ptr<LayerWriter>> writers;
+  const bool shard = params.shard_count > 1;
+  std::vector<std::string> stacks;
+  for (const std::string& f : params.formats) {
+    if (shard && is_stack_format(f))
+      stacks.push_back(f);
+    else
+      writers.push_back(make_layer_writer(f, context));
+  }
+  if (stacks.empty()) return writers;
+  {
+    OutputContext scratch = context;
+    scratch.dir =
+        context.dir / kStackPartsFolder / fmt::format(".check-{}@{}", static_cast<long>(::getpid()), machine_name());
+    struct Cleanup {
+      std::filesystem::path dir;
+      ~Cleanup() {
+        std::error_code ec;
+        std::filesystem::remove_all(dir, ec);
+      }
+    } cleanup{scratch.dir};
+    std::error_code ec;
+    std::filesystem::create_directories(scratch.dir, ec);
+    if (ec) throw IoError(fmt::format("{}: cannot create: {}", scratch.dir.string(), ec.message()));
+    for (const std::string& f : stacks) (void)make_layer_writer(f, scratch);
+  }
+  writers.push_back(make_stack_parts_writer(context));
+  return writers;
+}
+
 std::vector<MaterialSheetRow> job_material_sheet(const Scene& scene) {
   std::vector<MaterialSheetRow> sheet;
   for (const MaterialDef& m : scene.materials) sheet.push_back({m.name, m.library, opaque(m.rgba)});
@@ -189,9 +224,9 @@ std::string cells_boundary_stl(const Scene& scene) {
 }  // namespace detail
 
 std::string stack_resume_note(const JobParams& params) {
+  if (params.shard_count > 1) return {};  // a shard keeps its layers for them (stack parts)
   std::vector<std::string> stacks, layered;
   for (const std::string& f : params.formats) (is_stack_format(f) ? stacks : layered).push_back(f);
-  if (!params.preview_layers.empty()) stacks.push_back("the previews of --preview");
   if (stacks.empty()) return {};
   if (layered.empty())
     return fmt::format(

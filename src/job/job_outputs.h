@@ -3,6 +3,7 @@
 // Shared by the job and its estimate, so that both make the same writers.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,5 +20,12 @@ std::vector<MaterialSheetRow> job_material_sheet(const Scene& scene);
 // space (mm): each of the six faces of each volume sampled on a 32 x 32 grid of its
 // parameters, two triangles per grid cell, facing outwards.
 std::string cells_boundary_stl(const Scene& scene);
+
+// The writers of the job's formats (not of --preview's layers). In a shard
+// (JobParams::shard_count > 1) of a job with stack outputs (is_stack_format) these give way to one stack-parts writer
+// (output/detail/stack_parts.h): the shard keeps its layers for the stack outputs, which the whole job's resume after
+// the merge writes. Their own checks of the job (a printer with a display, for one) still refuse the shard: each is
+// made once in a scratch folder under the parts' folder, and dropped.
+std::vector<std::unique_ptr<LayerWriter>> job_format_writers(const OutputContext& context, const JobParams& params);
 
 }  // namespace trivox::detail

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 
+#include "trivox/io/detail/sha256.h"
 #include "trivox/material/material_function.h"
+#include "trivox/output/detail/stack_parts.h"
 
 namespace trivox::detail {
 
@@ -34,6 +37,42 @@ std::optional<ManifestSceneParts> scene_parts(const Scene& scene, const SliceLay
     parts.cells.push_back(std::move(c));
   }
   return parts;
+}
+
+std::vector<ManifestFile> intact_files(const std::filesystem::path& dir, const JobManifest& previous) {
+  std::map<int, std::vector<ManifestFile>> by_layer;
+  for (const ManifestFile& f : previous.files)
+    if (f.layer > 0) by_layer[f.layer].push_back(f);  // stack files (layer 0) are rewritten at the end
+  std::vector<ManifestFile> kept;
+  for (auto& [layer, files] : by_layer) {
+    const bool intact = std::all_of(files.begin(), files.end(), [&](const ManifestFile& f) {
+      std::error_code ec;
+      const auto path = dir / f.name;
+      if (!std::filesystem::is_regular_file(path, ec) || std::filesystem::file_size(path, ec) != f.bytes || ec)
+        return false;
+      return sha256_file(path).sha256 == f.sha256;
+    });
+    if (intact) kept.insert(kept.end(), files.begin(), files.end());
+  }
+  return kept;
+}
+
+std::vector<std::vector<std::string>> stack_parts_by_layer(const std::vector<ManifestFile>& files, int total_layers) {
+  std::vector<std::vector<std::string>> parts(static_cast<std::size_t>(std::max(0, total_layers)));
+  for (const ManifestFile& f : files)
+    if (f.layer >= 1 && f.layer <= total_layers && is_stack_part(f.name))
+      parts[static_cast<std::size_t>(f.layer - 1)].push_back(f.name);
+  return parts;
+}
+
+void take_stack_parts(std::vector<ManifestFile>& files) {
+  files.erase(std::remove_if(files.begin(), files.end(), [](const ManifestFile& f) { return is_stack_part(f.name); }),
+              files.end());
+}
+
+void remove_stack_parts(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::remove_all(dir / kStackPartsFolder, ec);
 }
 
 std::vector<int> layers_of(const std::vector<ManifestFile>& files) {

@@ -78,6 +78,8 @@ std::optional<std::string> SliceJob::lock_taken_over_from() const {
   return lock_ ? lock_->taken_over_from() : std::nullopt;
 }
 
+bool SliceJob::locked_by_files() const noexcept { return lock_ && lock_->locked_by_files(); }
+
 Scene SliceJob::read_scene(const std::filesystem::path& path) {
   SceneReadOptions read;
   read.stop = params_.job.stop;

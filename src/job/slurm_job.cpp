@@ -111,11 +111,24 @@ std::string slurm_merge_script(const SlurmJobParams& p) {
   std::string s = header(p, "The merge");
   s += "# Submit with --dependency=afterok:<each shard array's job id>.\n";
   s += common_directives(p, p.job_name + "-merge");
-  s += "#SBATCH --cpus-per-task=1\n";
+  s += fmt::format("#SBATCH --cpus-per-task={}\n", p.stack_outputs ? p.cpus_per_task : 1);
+  if (p.stack_outputs && p.merge_memory_mb > 0) s += fmt::format("#SBATCH --mem={}M\n", p.merge_memory_mb);
   if (p.time_minutes > 0) s += fmt::format("#SBATCH --time={}\n", p.time_minutes);
   s += fmt::format("#SBATCH --output={}/slurm/merge-%j.log\n", dir);
   s += "set -eu\n";
+  if (p.shards == 1) {
+    // Shard 1 of 1 is the whole job: it wrote manifest.json and its stack outputs itself.
+    s += fmt::format("{} verify {}\n", program, dir);
+    return s;
+  }
   s += fmt::format("{} merge {}\n", program, dir);
+  if (p.stack_outputs) {
+    s += "# The stack outputs, from the layers the shards kept (their stack parts, removed after).\n";
+    s += fmt::format("{} slice {} -o {} --resume -j \"${{SLURM_CPUS_PER_TASK:-{}}}\"", program,
+                     shell_word(p.scene.string()), dir, p.cpus_per_task);
+    for (const std::string& a : p.slice_args) s += fmt::format(" {}", shell_word(a));
+    s += "\n";
+  }
   s += fmt::format("{} verify {}\n", program, dir);
   return s;
 }

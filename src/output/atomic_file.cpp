@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -95,6 +96,11 @@ std::string machine_name() {
   return name;
 }
 
+bool process_runs_here(long pid) noexcept {
+  if (pid <= 0 || pid > std::numeric_limits<pid_t>::max()) return false;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
 namespace {
 
 // The host part of a temporary's name ("@<host>" after the digits); empty when it has none.
@@ -133,7 +139,7 @@ bool written_by_a_running_process(std::string_view name) noexcept {
   for (std::size_t i = at; i < name.size() && name[i] != '-' && pid < 1'000'000'000; ++i)
     pid = pid * 10 + (name[i] - '0');
   if (pid <= 0 || pid > 1'000'000'000 || pid == static_cast<long>(::getpid())) return false;
-  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+  return process_runs_here(pid);
 }
 
 }  // namespace

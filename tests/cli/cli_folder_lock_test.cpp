@@ -81,6 +81,28 @@ TEST_F(CliFolderLock, ALockLeftByAKilledJobIsTakenOver) {
   EXPECT_FALSE(any_lock_file());
 }
 
+// Without flock (TRIVOX_LOCKS=files, as on a file system whose flock answers ENOLCK): the job
+// says so, a second job is refused by the first's lock file, and a killed job's file, whose
+// process no longer runs, is taken over.
+TEST_F(CliFolderLock, WithoutFlockTheLockFilesLockTheFolderAndTheJobSaysSo) {
+  ::setenv("TRIVOX_LOCKS", "files", 1);
+  {
+    std::optional<JobFolderLock> held(std::in_place, out());
+    const CliResult refused = slice("-q");
+    EXPECT_EQ(refused.exit_code, 3) << refused.err;
+    EXPECT_NE(refused.err.find(fmt::format("process {} on host", ::getpid())), std::string::npos) << refused.err;
+  }
+  const CliResult r = slice("");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find(fmt::format("note: {} is locked by its lock files alone", out().string())), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(any_lock_file());
+  const CliResult shard = slice("-q --shard 1/2");
+  EXPECT_EQ(shard.exit_code, 0) << shard.err;
+  EXPECT_FALSE(any_lock_file());
+  ::unsetenv("TRIVOX_LOCKS");
+}
+
 TEST_F(CliFolderLock, TheShardsOfOneJobRunAtOnceButNotTwiceNorBesideAWholeJob) {
   std::optional<JobFolderLock> shard_one(std::in_place, out(), 1, 2);  // shard 1/2 running
   const CliResult two = slice("-q --shard 2/2");

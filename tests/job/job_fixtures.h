@@ -2,12 +2,15 @@
 // job stopped part way (as Ctrl-C stops it) and then resumed.
 #pragma once
 
+#include <unistd.h>
+
 #include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "trivox/io/model.h"
 #include "trivox/job/job.h"
@@ -49,6 +52,19 @@ inline std::map<std::string, std::string> folder_bytes(const std::filesystem::pa
     out[name] = read_bytes(e.path());
   }
   return out;
+}
+
+// A job of `formats` on 2 threads into a fresh folder of the temporary folder,
+// "<name>-<pid>-<variant>", recording the manifest after every layer.
+inline JobParams job_in_temp_folder(const std::string& name, const std::string& variant,
+                                    std::vector<std::string> formats) {
+  JobParams p;
+  p.output_dir = std::filesystem::temp_directory_path() / (name + "-" + std::to_string(::getpid()) + "-" + variant);
+  std::filesystem::remove_all(p.output_dir);
+  p.formats = std::move(formats);
+  p.threads = 2;
+  p.manifest_interval_seconds = 0;
+  return p;
 }
 
 // Raises a job's stop flag once `after` layers are complete.

@@ -134,6 +134,65 @@ TEST(JobFolderLock, ALockStillHeldForThisTaskByAProcessNotRunningHereIsTakenOver
   fs::remove_all(out);
 }
 
+// Without flock (TRIVOX_LOCKS=files, as where flock answers ENOLCK): the lock files alone
+// refuse what the flocks refuse, a file whose holder has ended is taken over, and one of
+// another machine is not, unless it is an earlier run of this very task.
+TEST(JobFolderLock, WithoutFlockTheLockFilesRefuseWhatTheFlocksRefuse) {
+  const fs::path out = fs::temp_directory_path() / fmt::format("trivox-job-lock-files-{}", ::getpid());
+  fs::remove_all(out);
+  ::setenv("TRIVOX_LOCKS", "files", 1);
+  {
+    const JobFolderLock whole(out);
+    EXPECT_TRUE(whole.locked_by_files());
+    EXPECT_THROW(JobFolderLock{out}, Error);
+    EXPECT_THROW((JobFolderLock{out, 1, 3}), Error);
+  }
+  EXPECT_FALSE(fs::exists(out / ".trivox.lock"));
+  {
+    const JobFolderLock one(out, 1, 3), two(out, 2, 3);
+    EXPECT_THROW((JobFolderLock{out, 2, 3}), Error);
+    try {
+      const JobFolderLock whole(out);
+      ADD_FAILURE() << "a whole job beside running shards";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(fmt::format("shard 1 (process {} on host {}", ::getpid(), machine_name())),
+                std::string::npos)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(out / ".trivox.lock"));  // the refused job's file is gone again
+  }
+  EXPECT_TRUE(fs::is_empty(out));
+  const auto write_line = [&](const std::string& name, const std::string& line) { std::ofstream(out / name) << line; };
+  // A killed job's file: its process no longer runs here.
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  write_line(".trivox.lock", fmt::format("pid={} host={} started=2026-11-28T10:00:00Z\n", dead, machine_name()));
+  {
+    const JobFolderLock whole(out);
+    ASSERT_TRUE(whole.taken_over_from());
+    EXPECT_NE(whole.taken_over_from()->find(fmt::format("pid={} ", dead)), std::string::npos);
+  }
+  // A shard's file of another machine: it may run, so neither a whole job nor that shard starts.
+  write_line(".trivox-shard-2.lock", "pid=4242 host=othernode task=test:9_2 started=2026-11-28T10:00:00Z\n");
+  EXPECT_THROW(JobFolderLock{out}, Error);
+  EXPECT_THROW((JobFolderLock{out, 2, 3}), Error);
+  {
+    const JobFolderLock other_shard(out, 3, 3);  // the other shards run beside it
+  }
+  // Unless this process runs as that task again (requeued after its node was lost).
+  ::setenv("TRIVOX_TASK_ID", "test:9_2", 1);
+  {
+    const JobFolderLock shard(out, 2, 3);
+    ASSERT_TRUE(shard.taken_over_from());
+    EXPECT_NE(shard.taken_over_from()->find("host=othernode"), std::string::npos);
+  }
+  ::unsetenv("TRIVOX_TASK_ID");
+  ::unsetenv("TRIVOX_LOCKS");
+  EXPECT_TRUE(fs::is_empty(out));
+  fs::remove_all(out);
+}
+
 // The task a lock line names: Slurm's array task, then within an srun step its process.
 TEST(JobFolderLock, TheLockLineNamesSlurmsTaskAndProcess) {
   const fs::path out = fs::temp_directory_path() / fmt::format("trivox-job-lock-slurm-{}", ::getpid());

@@ -195,10 +195,14 @@ TEST_F(JobResume, AnInterruptedStackJobSaysResumeSlicesItsLayersAgain) {
             "gcvf is written only when the job completes and keeps no finished layer, so --resume slices every layer "
             "again");
   p.formats = {"voxelprint", "tiff"};
-  p.preview_layers = {3};
+  p.preview_layers = {3};  // a layer's preview is one of its files, kept with it
   EXPECT_EQ(stack_resume_note(p),
-            "--resume keeps the finished layers of voxelprint and slices them once more for tiff and the previews of "
-            "--preview, written only when the job completes");
+            "--resume keeps the finished layers of voxelprint and slices them once more for tiff, written only when "
+            "the job completes");
+  // A shard keeps its layers for them (tests/job/stack_parts_test.cpp).
+  p.shard_count = 2;
+  EXPECT_EQ(stack_resume_note(p), "");
+  p.shard_count = 1;
   p.formats = {"gcvf"};
   p.preview_layers.clear();
   std::atomic<bool> stop{true};

@@ -120,6 +120,31 @@ TEST(SlurmJob, TheMergeScriptMergesThenVerifies) {
   EXPECT_LT(merge, verify);
   EXPECT_NE(s.find("set -eu\n"), std::string::npos);  // no verify after a failed merge
   EXPECT_NE(s.find("#SBATCH --job-name=trivox-part-merge\n"), std::string::npos);
+  EXPECT_EQ(s.find("trivox slice"), std::string::npos) << s;  // no stack outputs to write
+}
+
+TEST(SlurmJob, AJobWithStackOutputsWritesThemAfterTheMergeAndOneShardOnlyVerifies) {
+  SlurmJobParams p = example_params();
+  p.stack_outputs = true;
+  p.merge_memory_mb = 3000;
+  std::string s = slurm_merge_script(p);
+  EXPECT_TRUE(bash_reads(s)) << s;
+  const std::size_t merge = s.find("\n/opt/trivox/bin/trivox merge /shared/out\n");
+  const std::size_t resume = s.find(
+      "\n/opt/trivox/bin/trivox slice '/projects/lab a/part'\\''s scene.json' -o /shared/out --resume -j "
+      "\"${SLURM_CPUS_PER_TASK:-2}\" --layers 1:40 --dither blue-noise\n");
+  const std::size_t verify = s.find("\n/opt/trivox/bin/trivox verify /shared/out\n");
+  ASSERT_NE(resume, std::string::npos) << s;
+  EXPECT_LT(merge, resume);
+  EXPECT_LT(resume, verify);
+  EXPECT_NE(s.find("#SBATCH --mem=3000M\n"), std::string::npos) << s;
+  EXPECT_NE(s.find(fmt::format("#SBATCH --cpus-per-task={}\n", p.cpus_per_task)), std::string::npos) << s;
+  // One shard is the whole job: it wrote manifest.json, so there is nothing to merge.
+  p.shards = 1;
+  s = slurm_merge_script(p);
+  EXPECT_EQ(s.find("trivox merge"), std::string::npos) << s;
+  EXPECT_EQ(s.find("trivox slice"), std::string::npos) << s;
+  EXPECT_NE(s.find("\n/opt/trivox/bin/trivox verify /shared/out\n"), std::string::npos) << s;
 }
 
 }  // namespace

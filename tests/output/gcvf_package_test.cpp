@@ -137,13 +137,8 @@ std::string zip_member(const fs::path& archive, const std::string& member) {
 }
 
 JobParams package_params(const std::string& name) {
-  JobParams p;
-  p.output_dir = fs::temp_directory_path() / fmt::format("trivox-gcvf-package-{}-{}", ::getpid(), name);
-  fs::remove_all(p.output_dir);
-  p.threads = 2;
-  p.formats = {"gcvf"};
+  JobParams p = test::job_in_temp_folder("trivox-gcvf-package", name, {"gcvf"});
   p.min_layers = 0;
-  p.manifest_interval_seconds = 0;
   return p;
 }
 

@@ -1,5 +1,5 @@
 // The "preview" stack output: the cuts against a reference built from the whole decoded
-// stack, determinism, resume, and the refusal to shard it.
+// stack, determinism, resume, and what a shard writes for it.
 #include <unistd.h>
 
 #include <atomic>
@@ -150,13 +150,16 @@ TEST(PreviewWriter, ADarkMaterialIsShownOnABackgroundApartFromIt) {
   fs::remove_all(p.output_dir);
 }
 
-TEST(PreviewWriter, CannotBeSharded) {
+TEST(PreviewWriter, AShardKeepsItsLayersForThePreviewsOfTheMergedJob) {
   const Scene scene = preview_scene();
   const Slicer slicer(scene, {});
   JobParams p = preview_params("shard", 1);
   p.shard_index = 1;
   p.shard_count = 2;
-  EXPECT_THROW(run_slice_job(slicer, p), Error);
+  run_slice_job(slicer, p);  // the merged job's resume writes them (tests/job/stack_parts_test.cpp)
+  EXPECT_FALSE(fs::exists(p.output_dir / "preview"));
+  EXPECT_TRUE(fs::is_directory(p.output_dir / "stack_parts"));
+  fs::remove_all(p.output_dir);
 }
 
 }  // namespace

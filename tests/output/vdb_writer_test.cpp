@@ -121,13 +121,15 @@ TEST(VdbWriter, IdenticalForOneAndThreeThreadsAndAfterResume) {
   fs::remove_all(b.output_dir);
 }
 
-TEST(VdbWriter, RefusesShards) {
+TEST(VdbWriter, AShardKeepsItsLayersForTheGridsOfTheMergedJob) {
   const Scene scene = vdb_scene();
   const Slicer slicer(scene, {});
   JobParams p = vdb_params("shard", 1);
   p.shard_index = 1;
   p.shard_count = 2;
-  EXPECT_THROW(run_slice_job(slicer, p), Error);
+  run_slice_job(slicer, p);  // the merged job's resume writes them (tests/job/stack_parts_test.cpp)
+  EXPECT_FALSE(fs::exists(p.output_dir / "vdb"));
+  EXPECT_TRUE(fs::is_directory(p.output_dir / "stack_parts"));
   fs::remove_all(p.output_dir);
 }
 

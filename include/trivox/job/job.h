@@ -121,9 +121,11 @@ class ProgressSink {
 };
 
 // What --resume does for the outputs written only when a job completes (the stack formats,
-// is_stack_format, and the previews of --preview): they keep no finished layer, so a resumed
-// job slices its kept layers once more for them, and every layer when they are all it writes.
-// One sentence for the interruption's message and the manifest; empty when the job has none.
+// is_stack_format): they keep no finished layer, so a resumed
+// job slices its kept layers once more for them, and every layer when they are all it writes
+// (unless the layers come from shards, which keep them as stack parts for the merged job's
+// resume: output/detail/stack_parts.h). One sentence for the interruption's message and the
+// manifest; empty when the job has none, and for a shard.
 std::string stack_resume_note(const JobParams& params);
 
 // Slices and writes the layers, keeping the manifest up to date, then the colour-to-material

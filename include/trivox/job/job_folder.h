@@ -20,9 +20,16 @@ namespace trivox {
 // into the folder, makes it throw Error naming that job. Throws Error naming the folder and
 // what is missing or inconsistent, IoError when a file cannot be read or written. Returns
 // the merged manifest.
+// A job with stack outputs (a GrabCAD package, an SL1S archive, ...) keeps its layers in
+// stack parts in its shards (output/detail/stack_parts.h): its merged manifest lists them and
+// says the job is interrupted, with the command that writes the stack outputs from them (the
+// whole job's --resume, which then removes the parts).
 // `stop` (optional, may be set from a signal handler) is read before each file: once it is
 // true, merge_shards throws CancelledError having written nothing.
 JobManifest merge_shards(const std::filesystem::path& dir, const std::atomic<bool>* stop = nullptr);
+
+// Whether `dir` holds a job: its manifest.json or a shard's manifest.
+bool holds_job(const std::filesystem::path& dir);
 
 struct VerifyReport {
   JobManifest manifest;

@@ -43,6 +43,16 @@ class JobFolderLock {
   // The holder line of a lock file this job took over from a job that ended without removing
   // it (killed, or a power cut); nullopt when the lock files were absent or empty.
   const std::optional<std::string>& taken_over_from() const noexcept;
+  // True when the folder's file system has no flock locks (flock answers ENOLCK, EOPNOTSUPP
+  // or ENOSYS) or TRIVOX_LOCKS=files asks for it: the lock files alone lock the folder. Each
+  // is created with O_EXCL and held while it exists with the line of a job that runs: one of
+  // this machine whose process runs, one of another machine (which cannot be judged from
+  // here), or a run of this task (above) on no machine it can see. A whole job holds
+  // .trivox.lock and refuses to start beside the shards' files; a shard holds its own and
+  // refuses to start beside a whole job's. A file whose holder has ended is taken over. Two
+  // jobs that start in the same instant into one folder are told apart by O_EXCL; a lock
+  // file of a lost machine stays until removed by hand (docs/CLUSTER.md, "Locks").
+  bool locked_by_files() const noexcept;
 
   // Whose temporaries (output/atomic_file.h) a job holding this lock may judge stale: every
   // machine's for a whole job, which holds the folder alone; this machine's for a shard, which

@@ -72,6 +72,9 @@ class SliceJob {
   // The holder line of a lock a job that ended without releasing it left behind; nullopt
   // when there was none.
   std::optional<std::string> lock_taken_over_from() const;
+  // The folder's file system has no flock locks: its lock files alone lock it
+  // (JobFolderLock::locked_by_files).
+  bool locked_by_files() const noexcept;
 
   // The scene, read (or parsed from `json_text`) through the construction cache unless
   // disabled; stop: JobParams::stop.

@@ -25,6 +25,12 @@ struct SlurmJobParams {
   // Seconds before the time limit at which Slurm signals the task (--signal=B:USR1@N): the
   // shard stops after its layers in progress and the task requeues itself.
   int warning_seconds = 120;
+  // The job writes stack outputs (gcvf, sl1s, tiff, vdb, previews): the shards keep their
+  // layers as stack parts, and the merge task writes the outputs from them with the whole
+  // job's `trivox slice --resume`, on cpus_per_task cores with merge_memory_mb (0: the
+  // partition's default).
+  bool stack_outputs = false;
+  std::uint64_t merge_memory_mb = 0;
 };
 
 // One array of a job that has more shards than the cluster's MaxArraySize allows in one
@@ -44,8 +50,11 @@ std::vector<SlurmArrayPart> slurm_array_parts(int shards, int max_array_size);
 // DIR/slurm/shard-<shard>.log, appended across reruns.
 std::string slurm_shard_script(const SlurmJobParams& params);
 
-// The merge task's batch script: `trivox merge DIR` and `trivox verify DIR`; submitted with
-// --dependency=afterok on every array part, so a shard that fails for good leaves it pending.
+// The merge task's batch script: `trivox merge DIR`, for a job with stack outputs the whole
+// job's `trivox slice SCENE -o DIR --resume` that writes them, and `trivox verify DIR` (only
+// the verify for one shard, which is the whole job);
+// submitted with --dependency=afterok on every array part, so a shard that fails for good
+// leaves it pending.
 std::string slurm_merge_script(const SlurmJobParams& params);
 
 // `word` quoted for bash when it holds anything but letters, digits and "-_./:=@%+,".

@@ -50,6 +50,11 @@ bool is_atomic_temporary_name(std::string_view file_name) noexcept;
 // bytes, characters other than letters, digits, '.', '-' and '_' replaced by '_'.
 std::string machine_name();
 
+// Whether a process `pid` runs on this machine now (one of another user counts: kill(2)
+// answers EPERM); false for a pid that is not positive. How temporaries and lock lines are
+// judged by the pid they name, on the machine they name.
+bool process_runs_here(long pid) noexcept;
+
 // Whose temporaries remove_stale_temporaries() may judge. A process on another machine cannot
 // be seen from this one, so its temporaries are removed only when no job can be writing
 // anywhere: a whole job (it holds the folder exclusively) or a merge.
