@@ -147,23 +147,22 @@ void run_cluster_slurm(const CLI::App& cmd, const ClusterOptions& c) {
   p.slice_args = slice_words(cmd, {"--output", "--threads", "--shards", "--partition", "--account", "--time", "--mem",
                                    "--max-array-size", "--submit"});
   // A quarter more than the estimate and 256 MB for the shell and the loader.
-  p.memory_mb =
-      c.memory_mb > 0
-          ? static_cast<std::uint64_t>(c.memory_mb)
-          : static_cast<std::uint64_t>(std::ceil(static_cast<double>(e.peak_memory_bytes) * 1.25 / 1e6)) + 256;
+  const auto task_memory_mb = [](const JobEstimate& estimate) {
+    return static_cast<std::uint64_t>(std::ceil(static_cast<double>(estimate.peak_memory_bytes) * 1.25 / 1e6)) + 256;
+  };
+  p.memory_mb = c.memory_mb > 0 ? static_cast<std::uint64_t>(c.memory_mb) : task_memory_mb(e);
   p.time_minutes =
       c.time_minutes > 0 ? c.time_minutes : std::max(10, static_cast<int>(std::ceil(e.seconds * 3 / 60)) + 5);
   p.job_name = "trivox-" + fs::path(o.scene).stem().string();
   // Stack outputs are written after the merge by the whole job's resume, from the layers the
   // shards kept: its memory is the whole job's (a stack writer's grids, for one).
-  p.stack_outputs = !job.preview_layers.empty() || std::any_of(job.formats.begin(), job.formats.end(),
-                                                               [](const auto& f) { return is_stack_format(f); });
+  p.stack_outputs =
+      std::any_of(job.formats.begin(), job.formats.end(), [](const auto& f) { return is_stack_format(f); });
   if (p.stack_outputs) {
     JobParams whole = job;
     whole.shard_count = 1;
     const JobEstimate w = estimate_job(slicer, whole, EstimateParams{1});
-    p.merge_memory_mb =
-        static_cast<std::uint64_t>(std::ceil(static_cast<double>(w.peak_memory_bytes) * 1.25 / 1e6)) + 256;
+    p.merge_memory_mb = task_memory_mb(w);
   }
 
   // The arrays, before anything is written: a job that needs too many is refused whole.

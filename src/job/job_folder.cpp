@@ -223,9 +223,8 @@ std::string stack_outputs_to_write_message(const std::filesystem::path& dir, con
   const std::string last = stacks.back();
   stacks.pop_back();
   return fmt::format(
-      "the shards' layers are merged; {}{} {} still to be written from the layers they kept: run `trivox slice {} -o "
-      "{} "
-      "--resume` with the shards' options",
+      "the shards' layers are merged; {}{} {} still to be written from the layers they kept: "
+      "run `trivox slice {} -o {} --resume` with the shards' options",
       stacks.empty() ? "" : fmt::format("{} and ", fmt::join(stacks, ", ")), last, stacks.empty() ? "is" : "are", scene,
       dir.string());
 }

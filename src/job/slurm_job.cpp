@@ -55,6 +55,16 @@ std::string header(const SlurmJobParams& p, const char* what) {
       what, version(), p.scene.string(), p.shards, p.output_dir.string());
 }
 
+// The `trivox slice` line of a task: the scene into the folder, `mode` (the shard and
+// --resume), -j from the task's cores, then the job's options word for word.
+std::string slice_command(const SlurmJobParams& p, const std::string& mode) {
+  std::string s =
+      fmt::format("{} slice {} -o {} {} -j \"${{SLURM_CPUS_PER_TASK:-{}}}\"", shell_word(p.program.string()),
+                  shell_word(p.scene.string()), shell_word(p.output_dir.string()), mode, p.cpus_per_task);
+  for (const std::string& a : p.slice_args) s += fmt::format(" {}", shell_word(a));
+  return s;
+}
+
 }  // namespace
 
 std::string slurm_shard_script(const SlurmJobParams& p) {
@@ -94,10 +104,7 @@ std::string slurm_shard_script(const SlurmJobParams& p) {
   s += "}\n";
   s += "trap stop_and_requeue USR1\n";
   s += "trap 'stop_shard; exit 143' TERM\n";
-  s += fmt::format("{} slice {} -o {} --shard \"$shard/{}\" --resume -j \"${{SLURM_CPUS_PER_TASK:-{}}}\"",
-                   shell_word(p.program.string()), shell_word(p.scene.string()), dir, p.shards, p.cpus_per_task);
-  for (const std::string& a : p.slice_args) s += fmt::format(" {}", shell_word(a));
-  s += " &\n";
+  s += slice_command(p, fmt::format("--shard \"$shard/{}\" --resume", p.shards)) + " &\n";
   s += "pid=$!\n";
   s += "wait \"$pid\"\n";
   s += "status=$?\n";
@@ -124,10 +131,7 @@ std::string slurm_merge_script(const SlurmJobParams& p) {
   s += fmt::format("{} merge {}\n", program, dir);
   if (p.stack_outputs) {
     s += "# The stack outputs, from the layers the shards kept (their stack parts, removed after).\n";
-    s += fmt::format("{} slice {} -o {} --resume -j \"${{SLURM_CPUS_PER_TASK:-{}}}\"", program,
-                     shell_word(p.scene.string()), dir, p.cpus_per_task);
-    for (const std::string& a : p.slice_args) s += fmt::format(" {}", shell_word(a));
-    s += "\n";
+    s += slice_command(p, "--resume") + "\n";
   }
   s += fmt::format("{} verify {}\n", program, dir);
   return s;
